@@ -1,0 +1,74 @@
+// What leaves a running simulation: the one small interface the service and the tests implement.
+//
+// Every event carries a sequence number, assigned by the simulation in a deterministic order (step by
+// step; within a step: encounters in canonical order, then burn-ups by id, then progress). A run resumed
+// from a checkpoint re-emits the events after the checkpoint's sequence number with the same numbers and
+// the same contents, so a consumer can store idempotently by sequence number.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/conjunctions/encounter.hpp"
+#include "core/population/population.hpp"
+
+namespace kessler {
+
+struct BurnUp {
+  ObjectId id = 0;
+  double time_s = 0.0;      // end of the step in which it fell below the burn-up altitude
+  double altitude_m = 0.0;  // altitude at that time
+};
+
+struct Progress {
+  std::int64_t step = 0;          // steps completed
+  std::int64_t total_steps = 0;
+  double sim_time_s = 0.0;        // seconds since the scenario epoch
+  std::uint64_t objects_alive = 0;
+  std::uint64_t events_so_far = 0;  // encounters + burn-ups emitted
+  double wall_s = 0.0;            // wall time of this run so far (not deterministic)
+  double eta_s = 0.0;             // estimated wall time left
+};
+
+// Seconds spent per phase, as the paper's runtime breakdown.
+struct PhaseTimers {
+  double integrator_s = 0.0;
+  double burn_up_s = 0.0;
+  double grid_s = 0.0;       // broad phase: container update
+  double detection_s = 0.0;  // narrow phase and event assembly
+  double output_s = 0.0;     // handing events to the sink
+  double checkpoint_s = 0.0;
+  double total_s = 0.0;
+};
+
+struct RunSummary {
+  std::int64_t steps = 0;
+  double sim_time_s = 0.0;
+  std::uint64_t events = 0;  // encounters (all kinds) + burn-ups
+  std::uint64_t conjunctions = 0;
+  std::uint64_t collisions = 0;
+  std::uint64_t evasions = 0;
+  std::uint64_t burn_ups = 0;
+  std::uint64_t objects_initial = 0;
+  std::uint64_t objects_final = 0;
+  std::string events_digest;  // hex hash over every event in sequence order, bit for bit
+  std::string state_digest;   // hex hash over the final ids and states, bit for bit
+  PhaseTimers timers;
+  bool cancelled = false;
+};
+
+class EventSink {
+ public:
+  virtual ~EventSink() = default;
+  virtual void on_encounter(std::uint64_t seq, const Encounter& encounter) = 0;
+  virtual void on_burn_up(std::uint64_t seq, const BurnUp& burn_up) = 0;
+  virtual void on_progress(std::uint64_t seq, const Progress& progress) = 0;
+  // A checkpoint, complete and self-contained: every event with a sequence number <= last_seq was
+  // handed over before it. Store it atomically; a run resumes from these bytes.
+  virtual void on_checkpoint(std::uint64_t last_seq, std::int64_t step, const std::string& bytes) = 0;
+  virtual void on_finished(const RunSummary& summary) = 0;
+  virtual void on_failed(const std::string& reason) = 0;
+};
+
+}  // namespace kessler

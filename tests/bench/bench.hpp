@@ -1,0 +1,57 @@
+// kessler-bench: one program, one subcommand per measured capability. Each subcommand lives in its own
+// file and registers itself with KESSLER_BENCH; each prints, last, one JSON object on one line.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace kessler::bench {
+
+using BenchMain = int (*)(int argc, char** argv);
+
+struct Registration {
+  Registration(const char* name, const char* summary, BenchMain main);
+};
+
+// "--key value" and "--flag" options after the subcommand. Unknown options are an error (exit 2).
+class Args {
+ public:
+  Args(int argc, char** argv);
+  bool has(const std::string& key) const;
+  std::string get(const std::string& key, const std::string& fallback) const;
+  double get_double(const std::string& key, double fallback) const;
+  std::int64_t get_int(const std::string& key, std::int64_t fallback) const;
+  // Exits with code 2 and a message when an option was given that is not in `known`.
+  void allow_only(const std::vector<std::string>& known) const;
+
+ private:
+  std::map<std::string, std::string> values_;
+};
+
+// Accumulates "key": value pairs and prints them as one JSON line.
+class JsonLine {
+ public:
+  JsonLine& add(const std::string& key, double value);
+  JsonLine& add(const std::string& key, std::int64_t value);
+  JsonLine& add(const std::string& key, const std::string& value);
+  std::string str() const;
+  void print() const;
+
+ private:
+  std::vector<std::string> fields_;
+};
+
+// Median of a sample (copies it).
+double median(std::vector<double> values);
+
+// Seconds of a steady clock.
+double now_s();
+
+}  // namespace kessler::bench
+
+#define KESSLER_BENCH_CONCAT_(a, b) a##b
+#define KESSLER_BENCH_CONCAT(a, b) KESSLER_BENCH_CONCAT_(a, b)
+#define KESSLER_BENCH(name, summary, main_fn) \
+  static ::kessler::bench::Registration KESSLER_BENCH_CONCAT(kessler_bench_reg_, __LINE__)(name, summary, main_fn)
