@@ -11,15 +11,10 @@
 #include <vector>
 
 #include "core/conjunctions/encounter.hpp"
+#include "core/integration/burn_up.hpp"
 #include "core/population/population.hpp"
 
 namespace kessler {
-
-struct BurnUp {
-  ObjectId id = 0;
-  double time_s = 0.0;      // end of the step in which it fell below the burn-up altitude
-  double altitude_m = 0.0;  // altitude at that time
-};
 
 struct Progress {
   std::int64_t step = 0;          // steps completed

@@ -1,0 +1,40 @@
+// Conjunction detection over one step: broad phase on a grid, narrow phase (linear or Hermite), the
+// paper's status rules, canonical output order.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/conjunctions/encounter.hpp"
+#include "core/integration/propagator.hpp"
+
+namespace kessler {
+
+class ConjunctionDetector {
+ public:
+  explicit ConjunctionDetector(const ConjunctionSettings& settings);
+
+  // The problem with these settings for a step of dt_s, naming the field ("kappa_max",
+  // "screening_distance_m", "dt_s"), or nullopt.
+  static std::optional<std::string> validate(const ConjunctionSettings& settings, double dt_s);
+
+  // Every encounter of the step (local minima of distance within the threshold, each reported once
+  // across steps), appended to `out` in canonical order. Parallel with OpenMP; the output is bitwise
+  // identical for any thread count.
+  void scan(const Population& population, const StepEnds& step, std::vector<Encounter>& out);
+
+  // Seconds of the last scan spent in the broad phase (grid build and candidate pairs) and the rest.
+  double last_grid_s() const { return last_grid_s_; }
+  double last_narrow_s() const { return last_narrow_s_; }
+  // Candidate pairs the broad phase produced in the last scan.
+  std::size_t last_candidate_pairs() const { return last_candidate_pairs_; }
+
+ private:
+  ConjunctionSettings settings_;
+  double last_grid_s_ = 0.0;
+  double last_narrow_s_ = 0.0;
+  std::size_t last_candidate_pairs_ = 0;
+};
+
+}  // namespace kessler

@@ -1,0 +1,68 @@
+// One run: the paper's main loop (integrate, burn-up, conjunction detection, events, progress,
+// checkpoints) over a population, with pause, cancel and resume.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "core/conjunctions/encounter.hpp"
+#include "core/integration/propagator.hpp"
+#include "core/physics/force_model_settings.hpp"
+#include "core/population/population.hpp"
+#include "core/simulation/events.hpp"
+#include "core/time/epoch.hpp"
+
+namespace kessler {
+
+// The core's plain view of a scenario (core/scenario/ maps the proto onto it).
+struct SimulationConfig {
+  UtcEpoch start_epoch = UtcEpoch::from_calendar(2022, 1, 1, 0, 0, 0.0);
+  double duration_s = 86400.0;
+  double dt_s = 10.0;
+  ForceModelSettings force_model;
+  bool conjunctions_enabled = true;
+  ConjunctionSettings conjunctions;
+  double burn_up_altitude_m = 150e3;
+  std::int64_t checkpoint_every_steps = 0;  // 0: off
+  double checkpoint_every_wall_s = 0.0;     // 0: off
+  std::int64_t progress_every_steps = 0;    // 0: about 200 per run
+  std::uint64_t seed = 1;
+  int threads = 0;                          // 0: OpenMP's default
+};
+
+// Flags a host sets from another thread; the loop reads them once per step.
+struct RunControl {
+  std::atomic<bool> cancel{false};
+  std::atomic<bool> pause{false};
+  // Write a checkpoint at the end of the current step (e.g. on SIGTERM), then clear the flag.
+  std::atomic<bool> checkpoint_now{false};
+  // Stop after writing the next checkpoint (graceful shutdown: the run stays resumable).
+  std::atomic<bool> stop_after_checkpoint{false};
+};
+
+class Simulation {
+ public:
+  // A fresh run of `population` moved by `propagator`.
+  Simulation(const SimulationConfig& config, Population population, std::unique_ptr<Propagator> propagator);
+  // A run continued from checkpoint bytes (as handed to EventSink::on_checkpoint). The propagator
+  // must be built from the same scenario. Throws std::runtime_error on a corrupt checkpoint.
+  static std::unique_ptr<Simulation> resume(const SimulationConfig& config, const std::string& checkpoint,
+                                            std::unique_ptr<Propagator> propagator);
+  ~Simulation();
+
+  // Runs to the end (or until cancelled), handing every event to `sink`. Returns the summary, which
+  // was also handed to sink.on_finished. Failures are reported with sink.on_failed and rethrown.
+  RunSummary run(EventSink& sink, RunControl& control);
+
+  const Population& population() const;
+  std::int64_t step() const;
+  std::int64_t total_steps() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace kessler
