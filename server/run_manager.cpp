@@ -1,0 +1,447 @@
+#include "server/run_manager.hpp"
+
+#include <chrono>
+#include <thread>
+
+#include "core/scenario/run_builder.hpp"
+
+namespace kessler::server {
+namespace {
+
+using Code = ServiceError::Code;
+
+double unix_now_s() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+void set_vector(v1::Vector3* out, const Eigen::Vector3d& v) {
+  out->set_x(v.x());
+  out->set_y(v.y());
+  out->set_z(v.z());
+}
+
+v1::Progress progress_to_proto(const Progress& p) {
+  v1::Progress out;
+  out.set_step(p.step);
+  out.set_total_steps(p.total_steps);
+  out.set_sim_time_s(p.sim_time_s);
+  out.set_objects_alive(p.objects_alive);
+  out.set_events_so_far(p.events_so_far);
+  out.set_wall_s(p.wall_s);
+  out.set_eta_s(p.eta_s);
+  return out;
+}
+
+// The simulation's events into the run's hub (for live watchers) and the store (for everyone else).
+class RunSink final : public EventSink {
+ public:
+  RunSink(std::int64_t run_id, EventHub& hub, Store& store) : run_id_(run_id), hub_(hub), store_(store) {}
+
+  void on_encounter(std::uint64_t seq, const Encounter& encounter) override {
+    auto event = make(seq);
+    *event->mutable_encounter() = to_proto(encounter);
+    event->mutable_encounter()->set_seq(seq);
+    emit(std::move(event));
+  }
+  void on_burn_up(std::uint64_t seq, const BurnUp& burn_up) override {
+    auto event = make(seq);
+    auto* b = event->mutable_burn_up();
+    b->set_id(burn_up.id);
+    b->set_time_s(burn_up.time_s);
+    b->set_altitude_m(burn_up.altitude_m);
+    emit(std::move(event));
+  }
+  void on_progress(std::uint64_t seq, const Progress& progress) override {
+    auto event = make(seq);
+    *event->mutable_progress() = progress_to_proto(progress);
+    emit(std::move(event));
+  }
+  void on_checkpoint(std::uint64_t last_seq, std::int64_t step, const std::string& bytes) override {
+    store_.append_checkpoint(run_id_, last_seq, step, bytes);
+  }
+  void on_finished(const RunSummary&) override {}
+  void on_failed(const std::string& reason) override { failure_ = reason; }
+
+  const std::string& failure() const { return failure_; }
+
+ private:
+  std::shared_ptr<v1::RunEvent> make(std::uint64_t seq) {
+    auto event = std::make_shared<v1::RunEvent>();
+    event->set_seq(seq);
+    event->set_run_id(run_id_);
+    return event;
+  }
+  void emit(std::shared_ptr<v1::RunEvent> event) {
+    EventPtr shared = std::move(event);
+    store_.append_event(shared);
+    hub_.publish(std::move(shared));
+  }
+
+  std::int64_t run_id_;
+  EventHub& hub_;
+  Store& store_;
+  std::string failure_;
+};
+
+v1::StateChange state_of(const v1::Run& run) {
+  v1::StateChange change;
+  change.set_state(run.state());
+  change.set_error(run.error());
+  if (run.has_summary()) *change.mutable_summary() = run.summary();
+  return change;
+}
+
+// Seconds the scenario simulates, for the stats' default bin (the core's defaults when unset).
+double run_length_s(const v1::Run& run) {
+  if (run.has_summary() && run.summary().sim_time_s() > 0) return run.summary().sim_time_s();
+  const v1::Scenario& s = run.scenario();
+  if (s.has_duration_days()) return s.duration_days() * 86400.0;
+  if (run.progress().total_steps() > 0 && run.progress().step() > 0)
+    return run.progress().sim_time_s() * static_cast<double>(run.progress().total_steps()) /
+           static_cast<double>(run.progress().step());
+  return 86400.0;
+}
+
+}  // namespace
+
+v1::RunSummary to_proto(const RunSummary& s) {
+  v1::RunSummary out;
+  out.set_steps(s.steps);
+  out.set_sim_time_s(s.sim_time_s);
+  out.set_events(s.events);
+  out.set_conjunctions(s.conjunctions);
+  out.set_collisions(s.collisions);
+  out.set_evasions(s.evasions);
+  out.set_burn_ups(s.burn_ups);
+  out.set_objects_initial(s.objects_initial);
+  out.set_objects_final(s.objects_final);
+  out.set_events_digest(s.events_digest);
+  out.set_state_digest(s.state_digest);
+  out.set_cancelled(s.cancelled);
+  auto* t = out.mutable_timers();
+  t->set_integrator_s(s.timers.integrator_s);
+  t->set_burn_up_s(s.timers.burn_up_s);
+  t->set_grid_s(s.timers.grid_s);
+  t->set_detection_s(s.timers.detection_s);
+  t->set_output_s(s.timers.output_s);
+  t->set_checkpoint_s(s.timers.checkpoint_s);
+  t->set_total_s(s.timers.total_s);
+  return out;
+}
+
+v1::Encounter to_proto(const Encounter& e) {
+  v1::Encounter out;
+  out.set_id1(e.id1);
+  out.set_id2(e.id2);
+  out.set_tca_s(e.tca_s);
+  out.set_miss_distance_m(e.miss_distance_m);
+  out.set_relative_speed_m_s(e.relative_speed_m_s);
+  out.set_kappa(e.kappa);
+  out.set_kind(static_cast<v1::EncounterKind>(e.kind));
+  set_vector(out.mutable_r1_m(), e.r1_m);
+  set_vector(out.mutable_v1_m_s(), e.v1_m_s);
+  set_vector(out.mutable_r2_m(), e.r2_m);
+  set_vector(out.mutable_v2_m_s(), e.v2_m_s);
+  return out;
+}
+
+RunManager::RunManager(const ManagerOptions& options) : options_(options), store_(options.db_path) {
+  scheduler_ =
+      std::make_unique<Scheduler>(options.runs_at_once, options.queue_limit,
+                                  [this](std::int64_t id, RunControl& control) { execute(id, control); });
+  // Runs a previous daemon left running go first (they resume from their checkpoints), then the
+  // queue in its order.
+  auto interrupted = store_.runs_in_state(v1::RUN_STATE_RUNNING);
+  auto waiting = store_.runs_in_state(v1::RUN_STATE_QUEUED);
+  for (std::int64_t id : interrupted) store_.set_queued(id);
+  for (std::int64_t id : interrupted) scheduler_->enqueue(id, true);
+  for (std::int64_t id : waiting) scheduler_->enqueue(id, true);
+}
+
+RunManager::~RunManager() {
+  shutdown();
+}
+
+void RunManager::shutdown() {
+  stopping_ = true;
+  scheduler_->shutdown(true);
+  store_.flush();
+}
+
+std::shared_ptr<EventHub> RunManager::hub(std::int64_t run_id) {
+  std::lock_guard lock(hubs_mutex_);
+  auto it = hubs_.find(run_id);
+  return it == hubs_.end() ? nullptr : it->second;
+}
+
+v1::Run RunManager::submit(const v1::SubmitRunRequest& request) {
+  v1::Scenario scenario;
+  if (request.has_scenario()) {
+    scenario = request.scenario();
+  } else if (request.has_scenario_text()) {
+    if (auto error = parse_scenario(request.scenario_text(), scenario))
+      throw ServiceError(Code::kInvalidArgument, error->message(), error->path);
+  } else {
+    throw ServiceError(Code::kInvalidArgument, "scenario: missing (give scenario or scenario_text)",
+                       "scenario");
+  }
+  if (request.threads() < 0 || request.threads() > 1024)
+    throw ServiceError(Code::kInvalidArgument, "threads: must be between 0 and 1024", "threads");
+  if (auto error = validate_scenario(scenario))
+    throw ServiceError(Code::kInvalidArgument, error->message(), error->path);
+  // An inline population is ingested once here, so a broken catalog is refused now rather than
+  // failing the run later.
+  const auto source = scenario.population().source_case();
+  if (source == v1::PopulationSource::kCatalog || source == v1::PopulationSource::kStateTable) {
+    BuildOptions build;
+    build.threads = 1;
+    if (!options_.datasets_dir.empty()) build.datasets_dir = options_.datasets_dir;
+    FieldError error;
+    if (!build_simulation(scenario, build, &error))
+      throw ServiceError(Code::kInvalidArgument, error.message(), error.path);
+  }
+  if (scheduler_->queued() >= options_.queue_limit)
+    throw ServiceError(Code::kResourceExhausted, "queue full: " + std::to_string(options_.queue_limit) +
+                                                     " runs are waiting; try later");
+  int threads = request.threads() > 0 ? request.threads() : options_.threads_per_run;
+  std::int64_t id = store_.create_run(scenario, threads, unix_now_s());
+  if (!scheduler_->enqueue(id)) {
+    store_.delete_run(id);
+    throw ServiceError(Code::kResourceExhausted, "queue full: " + std::to_string(options_.queue_limit) +
+                                                     " runs are waiting; try later");
+  }
+  return get(id);
+}
+
+v1::Run RunManager::get(std::int64_t run_id) {
+  auto run = store_.get_run(run_id);
+  if (!run) throw ServiceError(Code::kNotFound, "run " + std::to_string(run_id) + " not found");
+  if (run->state() == v1::RUN_STATE_QUEUED) run->set_queue_position(scheduler_->queue_position(run_id));
+  return *run;
+}
+
+v1::ListRunsResponse RunManager::list(const v1::ListRunsRequest& request) {
+  if (request.page_size() < 0)
+    throw ServiceError(Code::kInvalidArgument, "page_size: must be >= 0", "page_size");
+  std::vector<v1::RunState> states;
+  for (int s : request.states()) states.push_back(static_cast<v1::RunState>(s));
+  Page<v1::Run> page;
+  try {
+    page = store_.list_runs(states, request.page_size(), request.page_token());
+  } catch (const std::invalid_argument& e) {
+    throw ServiceError(Code::kInvalidArgument, e.what(), "page_token");
+  }
+  v1::ListRunsResponse response;
+  for (auto& run : page.items) {
+    if (run.state() == v1::RUN_STATE_QUEUED) run.set_queue_position(scheduler_->queue_position(run.id()));
+    *response.add_runs() = std::move(run);
+  }
+  response.set_next_page_token(page.next_token);
+  return response;
+}
+
+v1::Run RunManager::cancel(std::int64_t run_id) {
+  v1::Run run = get(run_id);
+  if (is_terminal(run.state()))
+    throw ServiceError(Code::kFailedPrecondition, "run " + std::to_string(run_id) + " has already ended (" +
+                                                      run_state_name(run.state()) + ")");
+  auto result = scheduler_->cancel(run_id);
+  if (result != Scheduler::CancelResult::kSignalled) finish(run_id, v1::RUN_STATE_CANCELLED, "", nullptr);
+  return get(run_id);
+}
+
+void RunManager::remove(std::int64_t run_id) {
+  v1::Run run = get(run_id);
+  if (!is_terminal(run.state()))
+    throw ServiceError(Code::kFailedPrecondition, "run " + std::to_string(run_id) + " is " +
+                                                      run_state_name(run.state()) +
+                                                      "; cancel it before deleting");
+  if (!store_.delete_run(run_id))
+    throw ServiceError(Code::kNotFound, "run " + std::to_string(run_id) + " not found");
+}
+
+v1::ListConjunctionsResponse RunManager::conjunctions(const v1::ListConjunctionsRequest& request) {
+  get(request.run_id());  // NOT_FOUND
+  if (request.page_size() < 0)
+    throw ServiceError(Code::kInvalidArgument, "page_size: must be >= 0", "page_size");
+  if (request.has_kappa_min() && request.has_kappa_max() && request.kappa_min() > request.kappa_max())
+    throw ServiceError(Code::kInvalidArgument, "kappa_min: above kappa_max", "kappa_min");
+  if (request.has_time_min_s() && request.has_time_max_s() && request.time_min_s() > request.time_max_s())
+    throw ServiceError(Code::kInvalidArgument, "time_min_s: after time_max_s", "time_min_s");
+  Page<v1::Encounter> page;
+  try {
+    page = store_.list_conjunctions(request);
+  } catch (const std::invalid_argument& e) {
+    throw ServiceError(Code::kInvalidArgument, e.what(), "page_token");
+  }
+  v1::ListConjunctionsResponse response;
+  for (auto& c : page.items) *response.add_conjunctions() = std::move(c);
+  response.set_next_page_token(page.next_token);
+  response.set_total(page.total);
+  return response;
+}
+
+v1::RunStats RunManager::stats(const v1::GetRunStatsRequest& request) {
+  v1::Run run = get(request.run_id());
+  if (request.time_bin_s() < 0)
+    throw ServiceError(Code::kInvalidArgument, "time_bin_s: must be >= 0", "time_bin_s");
+  double length = run_length_s(run);
+  if (request.time_bin_s() > 0 && length / request.time_bin_s() > 1e6)
+    throw ServiceError(Code::kInvalidArgument, "time_bin_s: too small (over a million bins)", "time_bin_s");
+  v1::RunStats stats = store_.run_stats(request, length);
+  stats.set_state(run.state());
+  if (run.has_summary()) *stats.mutable_timers() = run.summary().timers();
+  return stats;
+}
+
+void RunManager::finish(std::int64_t run_id, v1::RunState state, const std::string& error,
+                        const v1::RunSummary* summary) {
+  store_.flush();  // every event is durable before the run reads as ended
+  store_.set_finished(run_id, state, unix_now_s(), error, summary);
+  std::shared_ptr<EventHub> h;
+  {
+    std::lock_guard lock(hubs_mutex_);
+    auto it = hubs_.find(run_id);
+    if (it != hubs_.end()) {
+      h = it->second;
+      hubs_.erase(it);
+    }
+  }
+  if (h) {
+    v1::StateChange change;
+    change.set_state(state);
+    change.set_error(error);
+    if (summary) *change.mutable_summary() = *summary;
+    h->set_state(change);
+  }
+}
+
+void RunManager::execute(std::int64_t run_id, RunControl& control) {
+  auto run = store_.get_run(run_id);
+  if (!run || run->state() != v1::RUN_STATE_QUEUED) return;  // cancelled or deleted meanwhile
+  store_.flush();
+  auto h = std::make_shared<EventHub>(store_.max_seq(run_id), options_.hub_capacity);
+  {
+    std::lock_guard lock(hubs_mutex_);
+    hubs_[run_id] = h;
+  }
+  store_.set_running(run_id, unix_now_s());
+  v1::StateChange running;
+  running.set_state(v1::RUN_STATE_RUNNING);
+  h->set_state(running);
+
+  BuildOptions build;
+  build.threads = run->threads();
+  if (!options_.datasets_dir.empty()) build.datasets_dir = options_.datasets_dir;
+  FieldError error;
+  std::unique_ptr<Simulation> simulation;
+  try {
+    auto checkpoint = store_.latest_checkpoint(run_id);
+    simulation = checkpoint ? resume_simulation(run->scenario(), checkpoint->bytes, build, &error)
+                            : build_simulation(run->scenario(), build, &error);
+  } catch (const std::exception& e) {
+    error.reason = e.what();
+  }
+  if (!simulation) {
+    finish(run_id, v1::RUN_STATE_FAILED, error.message().empty() ? "cannot build the run" : error.message(),
+           nullptr);
+    return;
+  }
+  RunSink sink(run_id, *h, store_);
+  RunSummary summary;
+  try {
+    summary = simulation->run(sink, control);
+  } catch (const std::exception& e) {
+    finish(run_id, v1::RUN_STATE_FAILED, sink.failure().empty() ? e.what() : sink.failure(), nullptr);
+    return;
+  }
+  if (control.stop_after_checkpoint && !control.cancel) {
+    // Daemon shutdown: the run stays "running" in the store and resumes at the next start.
+    store_.flush();
+    std::lock_guard lock(hubs_mutex_);
+    hubs_.erase(run_id);
+    return;
+  }
+  v1::RunSummary out = to_proto(summary);
+  finish(run_id, control.cancel ? v1::RUN_STATE_CANCELLED : v1::RUN_STATE_SUCCEEDED, "", &out);
+}
+
+void RunManager::watch(const v1::WatchRunRequest& request,
+                       const std::function<bool(const v1::RunEvent&)>& write,
+                       const std::function<bool()>& stop) {
+  const std::int64_t id = request.run_id();
+  v1::Run run = get(id);  // NOT_FOUND before the stream starts
+  std::uint64_t cursor = request.after_seq();
+  const bool no_progress = request.no_progress();
+  constexpr std::size_t kBatch = 1000;
+
+  v1::RunState sent_state = v1::RUN_STATE_UNSPECIFIED;
+  auto send_state = [&](const v1::StateChange& change) {
+    if (change.state() == sent_state) return true;
+    sent_state = change.state();
+    v1::RunEvent event;
+    event.set_run_id(id);
+    *event.mutable_state() = change;
+    return write(event);
+  };
+  auto send = [&](const v1::RunEvent& event) {
+    cursor = event.seq();
+    if (no_progress && event.has_progress()) return true;
+    return write(event);
+  };
+  auto send_from_store = [&]() -> int {  // events sent, or -1 when the client went away
+    auto events = store_.read_events(id, cursor, static_cast<int>(kBatch), false);
+    for (const auto& e : events)
+      if (!send(e)) return -1;
+    return static_cast<int>(events.size());
+  };
+
+  if (auto h = hub(id)) {
+    if (!send_state(h->state())) return;
+  } else if (!send_state(state_of(run))) {
+    return;
+  }
+  while (!stop() && !stopping_) {
+    std::shared_ptr<EventHub> h = hub(id);
+    if (!h) {
+      // Not live: queued, ended, or between the two. The store has every event.
+      int sent = send_from_store();
+      if (sent < 0) return;
+      if (sent > 0) continue;
+      auto now = store_.get_run(id, false);
+      if (!now) return;  // deleted meanwhile
+      if (is_terminal(now->state())) {
+        // The hub may have gone between our two looks: read once more before the final state.
+        if (send_from_store() != 0) continue;
+        send_state(state_of(*now));
+        return;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      continue;
+    }
+    std::uint64_t version = h->state_version();
+    auto read = h->read_after(cursor, kBatch);
+    if (read.behind) {
+      // Fell out of the window (or reconnected with an old number): catch up from the store, which
+      // may lag the hub by one writer batch.
+      int sent = send_from_store();
+      if (sent < 0) return;
+      if (sent == 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      continue;
+    }
+    if (!read.events.empty()) {
+      for (const auto& e : read.events)
+        if (!send(*e)) return;
+      continue;
+    }
+    v1::StateChange state = h->state();
+    if (h->closed()) {
+      send_state(state);
+      return;
+    }
+    if (!send_state(state)) return;
+    h->wait(cursor, version, std::chrono::milliseconds(200));
+  }
+}
+
+}  // namespace kessler::server

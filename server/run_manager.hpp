@@ -1,0 +1,83 @@
+// What the daemon does, without the wire: submissions, run lifecycles (queue, run, resume, cancel),
+// watching and queries, over the Store, the EventHub of each live run and the Scheduler. The gRPC
+// layer (grpc_service) only translates requests and ServiceError to and from the wire.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+#include "core/simulation/events.hpp"
+#include "kessler/v1/service.pb.h"
+#include "server/event_hub.hpp"
+#include "server/scheduler.hpp"
+#include "server/store.hpp"
+
+namespace kessler::server {
+
+// A request the daemon refuses, with the status it means.
+struct ServiceError : std::runtime_error {
+  enum class Code { kInvalidArgument, kNotFound, kFailedPrecondition, kResourceExhausted, kInternal };
+  ServiceError(Code c, const std::string& message, std::string path = {})
+      : std::runtime_error(message), code(c), field_path(std::move(path)) {}
+  Code code;
+  std::string field_path;  // for kInvalidArgument: the scenario field at fault
+};
+
+struct ManagerOptions {
+  std::string db_path = "var/kessler.db";
+  int runs_at_once = 1;
+  int threads_per_run = 0;  // 0: OpenMP's default
+  std::size_t queue_limit = 1000;
+  std::string datasets_dir;  // empty: the build's bundled datasets
+  std::size_t hub_capacity = 65536;
+};
+
+// Core results in wire form.
+v1::RunSummary to_proto(const RunSummary& summary);
+v1::Encounter to_proto(const Encounter& encounter);
+
+class RunManager {
+ public:
+  // Opens the store and resumes runs a previous daemon left running or queued.
+  explicit RunManager(const ManagerOptions& options);
+  ~RunManager();
+
+  v1::Run submit(const v1::SubmitRunRequest& request);
+  v1::Run get(std::int64_t run_id);
+  v1::ListRunsResponse list(const v1::ListRunsRequest& request);
+  v1::Run cancel(std::int64_t run_id);
+  void remove(std::int64_t run_id);
+  v1::ListConjunctionsResponse conjunctions(const v1::ListConjunctionsRequest& request);
+  v1::RunStats stats(const v1::GetRunStatsRequest& request);
+
+  // Streams the run's events after request.after_seq through `write` (false: the client has gone)
+  // until the run ends, `stop()` turns true or the daemon shuts down.
+  void watch(const v1::WatchRunRequest& request, const std::function<bool(const v1::RunEvent&)>& write,
+             const std::function<bool()>& stop);
+
+  // Graceful stop: running runs checkpoint and stay resumable, watchers end.
+  void shutdown();
+
+  Store& store() { return store_; }
+
+ private:
+  void execute(std::int64_t run_id, RunControl& control);
+  std::shared_ptr<EventHub> hub(std::int64_t run_id);
+  void finish(std::int64_t run_id, v1::RunState state, const std::string& error,
+              const v1::RunSummary* summary);
+
+  ManagerOptions options_;
+  Store store_;
+  std::mutex hubs_mutex_;
+  std::map<std::int64_t, std::shared_ptr<EventHub>> hubs_;
+  std::atomic<bool> stopping_{false};
+  std::unique_ptr<Scheduler> scheduler_;  // last: its workers use the members above
+};
+
+}  // namespace kessler::server

@@ -1,0 +1,120 @@
+// The daemon's memory: runs, their events, conjunctions and checkpoints in one SQLite database (WAL).
+//
+// Writes of events and checkpoints go through one writer thread that batches them into transactions,
+// in the order they were handed over, so a checkpoint is stored only after every event before it.
+// Events are stored idempotently by (run, sequence number): a resumed run re-emits events after its
+// checkpoint with the same numbers and the store keeps the first copy. Reads and the rare run updates
+// use their own connections (WAL lets readers run beside the writer).
+#pragma once
+
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "kessler/v1/service.pb.h"
+
+struct sqlite3;
+
+namespace kessler::server {
+
+// Thrown for database failures (disk full, corrupt file): the daemon cannot go on.
+struct StoreError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct StoredCheckpoint {
+  std::uint64_t last_seq = 0;
+  std::int64_t step = 0;
+  std::string bytes;
+};
+
+// One page of a query: items and the token of the next page (empty on the last).
+template <typename T>
+struct Page {
+  std::vector<T> items;
+  std::string next_token;
+  std::uint64_t total = 0;
+};
+
+class Store {
+ public:
+  // Opens (creating when needed) the database at `path` and brings its schema up to date.
+  explicit Store(const std::string& path);
+  ~Store();
+  Store(const Store&) = delete;
+  Store& operator=(const Store&) = delete;
+
+  static constexpr int kSchemaVersion = 1;
+  int schema_version();
+
+  // Runs. The id is assigned here.
+  std::int64_t create_run(const v1::Scenario& scenario, int threads, double created_unix_s);
+  // nullopt when there is no such run. with_scenario: also decode the stored scenario.
+  std::optional<v1::Run> get_run(std::int64_t run_id, bool with_scenario = true);
+  // Newest first; page token is the last id of the previous page.
+  Page<v1::Run> list_runs(const std::vector<v1::RunState>& states, int page_size,
+                          const std::string& page_token);
+  // Ids of the runs in a state, oldest first (for recovery at start).
+  std::vector<std::int64_t> runs_in_state(v1::RunState state);
+  void set_running(std::int64_t run_id, double started_unix_s);
+  void set_queued(std::int64_t run_id);
+  // A terminal state, with the error or the summary.
+  void set_finished(std::int64_t run_id, v1::RunState state, double finished_unix_s, const std::string& error,
+                    const v1::RunSummary* summary);
+  // Removes the run and everything stored for it. False when there was no such run.
+  bool delete_run(std::int64_t run_id);
+
+  // Events, through the writer thread. `event` must carry seq and run_id.
+  void append_event(std::shared_ptr<const v1::RunEvent> event);
+  // Stored after every event appended before it.
+  void append_checkpoint(std::int64_t run_id, std::uint64_t last_seq, std::int64_t step, std::string bytes);
+  // Blocks until everything appended so far is committed.
+  void flush();
+  // The highest sequence number committed for a run (0: none).
+  std::uint64_t max_seq(std::int64_t run_id);
+  // Committed events with seq > after_seq, in order, at most `limit`.
+  std::vector<v1::RunEvent> read_events(std::int64_t run_id, std::uint64_t after_seq, int limit,
+                                        bool no_progress = false);
+  std::optional<StoredCheckpoint> latest_checkpoint(std::int64_t run_id);
+
+  Page<v1::Encounter> list_conjunctions(const v1::ListConjunctionsRequest& request);
+  v1::RunStats run_stats(const v1::GetRunStatsRequest& request, double run_length_s);
+
+  // Rows written by the writer thread since the store opened (events), for the benchmark.
+  std::uint64_t events_written() const;
+
+ private:
+  struct Pending;
+  void writer_loop();
+  void write_batch(std::vector<Pending>& batch);
+  class Lease;  // a pooled connection for reads and run updates
+  sqlite3* acquire();
+  void release(sqlite3* db);
+
+  std::string path_;
+  sqlite3* writer_db_ = nullptr;  // the writer thread's connection
+  std::mutex pool_mutex_;
+  std::vector<sqlite3*> pool_;  // idle reader connections
+  std::vector<sqlite3*> all_;   // every connection, closed at the end
+
+  std::mutex queue_mutex_;
+  std::condition_variable queue_cv_;
+  std::condition_variable flushed_cv_;
+  std::deque<Pending> queue_;
+  std::uint64_t appended_ = 0;
+  std::uint64_t committed_ = 0;
+  bool stopping_ = false;
+  std::uint64_t events_written_ = 0;
+  std::thread writer_;
+};
+
+const char* run_state_name(v1::RunState state);
+bool is_terminal(v1::RunState state);
+
+}  // namespace kessler::server
