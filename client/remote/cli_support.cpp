@@ -1,0 +1,265 @@
+#include "client/remote/cli_support.hpp"
+
+#include <google/protobuf/util/json_util.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <sstream>
+
+#include "client/command.hpp"
+#include "core/time/epoch.hpp"
+
+namespace kessler::cli {
+
+bool Options::parse(int argc, char** argv, std::vector<OptionSpec> specs, std::string& error) {
+  specs.push_back({"--server", true});
+  specs.push_back({"--output", true});
+  specs.push_back({"--help", false});
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i];
+    if (arg == "-h") arg = "--help";
+    if (arg.size() < 2 || arg.rfind("--", 0) != 0 || arg == "--") {
+      positional.push_back(arg);
+      continue;
+    }
+    std::string name = arg, value;
+    bool inline_value = false;
+    if (auto eq = arg.find('='); eq != std::string::npos) {
+      name = arg.substr(0, eq);
+      value = arg.substr(eq + 1);
+      inline_value = true;
+    }
+    const OptionSpec* spec = nullptr;
+    for (const auto& s : specs)
+      if (s.name == name) spec = &s;
+    if (!spec) {
+      error = "unknown option " + name;
+      return false;
+    }
+    if (spec->takes_value && !inline_value) {
+      if (i + 1 >= argc) {
+        error = name + " needs a value";
+        return false;
+      }
+      value = argv[++i];
+    } else if (!spec->takes_value && inline_value) {
+      error = name + " takes no value";
+      return false;
+    }
+    values_[name] = value;
+  }
+  return true;
+}
+
+std::string Options::get(const std::string& name, const std::string& fallback) const {
+  auto it = values_.find(name);
+  return it == values_.end() ? fallback : it->second;
+}
+
+std::optional<OutputFormat> parse_output(const std::string& text) {
+  if (text == "table" || text == "text") return OutputFormat::kTable;
+  if (text == "csv") return OutputFormat::kCsv;
+  if (text == "json") return OutputFormat::kJson;
+  return std::nullopt;
+}
+
+bool parse_run_id(const std::string& text, std::int64_t& out) {
+  char* end = nullptr;
+  errno = 0;
+  long long v = std::strtoll(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || errno || v <= 0) return false;
+  out = v;
+  return true;
+}
+
+bool parse_double(const std::string& text, double& out) {
+  char* end = nullptr;
+  double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v)) return false;
+  out = v;
+  return true;
+}
+
+bool parse_uint(const std::string& text, std::uint64_t& out) {
+  char* end = nullptr;
+  errno = 0;
+  if (text.empty() || text[0] == '-') return false;
+  unsigned long long v = std::strtoull(text.c_str(), &end, 10);
+  if (*end != '\0' || errno) return false;
+  out = v;
+  return true;
+}
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (unsigned char c : s) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\r': out += "\\r"; break;
+      case '\t': out += "\\t"; break;
+      default:
+        if (c < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", c);
+          out += buf;
+        } else {
+          out += static_cast<char>(c);
+        }
+    }
+  }
+  return out + "\"";
+}
+
+std::string json_number(double v) {
+  if (!std::isfinite(v)) return "null";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+JsonObject& JsonObject::add(const std::string& key, const std::string& value) {
+  return add_raw(key, json_string(value));
+}
+JsonObject& JsonObject::add(const std::string& key, double value) { return add_raw(key, json_number(value)); }
+JsonObject& JsonObject::add(const std::string& key, std::int64_t value) {
+  return add_raw(key, std::to_string(value));
+}
+JsonObject& JsonObject::add(const std::string& key, std::uint64_t value) {
+  return add_raw(key, std::to_string(value));
+}
+JsonObject& JsonObject::add(const std::string& key, bool value) { return add_raw(key, value ? "true" : "false"); }
+JsonObject& JsonObject::add_raw(const std::string& key, const std::string& json) {
+  fields_.push_back(json_string(key) + ": " + json);
+  return *this;
+}
+std::string JsonObject::str() const {
+  std::string out = "{";
+  for (std::size_t i = 0; i < fields_.size(); ++i) out += (i ? ", " : "") + fields_[i];
+  return out + "}";
+}
+
+std::string to_json(const google::protobuf::Message& message) {
+  std::string out;
+  google::protobuf::util::JsonPrintOptions options;
+  options.preserve_proto_field_names = true;
+  options.always_print_primitive_fields = true;
+  if (!google::protobuf::util::MessageToJsonString(message, &out, options).ok()) return "{}";
+  return out;
+}
+
+const char* state_name(v1::RunState state) {
+  switch (state) {
+    case v1::RUN_STATE_QUEUED: return "queued";
+    case v1::RUN_STATE_RUNNING: return "running";
+    case v1::RUN_STATE_SUCCEEDED: return "succeeded";
+    case v1::RUN_STATE_FAILED: return "failed";
+    case v1::RUN_STATE_CANCELLED: return "cancelled";
+    default: return "unknown";
+  }
+}
+
+const char* kind_name(v1::EncounterKind kind) {
+  switch (kind) {
+    case v1::ENCOUNTER_KIND_COLLISION: return "collision";
+    case v1::ENCOUNTER_KIND_EVASION: return "evasion";
+    default: return "conjunction";
+  }
+}
+
+std::string summary_json(const v1::Run& run) {
+  const v1::RunSummary& s = run.summary();
+  JsonObject o;
+  o.add("run_id", static_cast<std::int64_t>(run.id()));
+  o.add("state", state_name(run.state()));
+  o.add("events", static_cast<std::uint64_t>(s.events()));
+  o.add("conjunctions", static_cast<std::uint64_t>(s.conjunctions()));
+  o.add("collisions", static_cast<std::uint64_t>(s.collisions()));
+  o.add("evasions", static_cast<std::uint64_t>(s.evasions()));
+  o.add("burn_ups", static_cast<std::uint64_t>(s.burn_ups()));
+  o.add("objects_initial", static_cast<std::uint64_t>(s.objects_initial()));
+  o.add("objects_final", static_cast<std::uint64_t>(s.objects_final()));
+  o.add("steps", static_cast<std::int64_t>(s.steps()));
+  o.add("sim_time_s", s.sim_time_s());
+  o.add("wall_s", s.timers().total_s());
+  o.add("events_digest", s.events_digest());
+  o.add("state_digest", s.state_digest());
+  if (!run.error().empty()) o.add("error", run.error());
+  return o.str();
+}
+
+std::string summary_text(const v1::Run& run) {
+  const v1::RunSummary& s = run.summary();
+  std::ostringstream out;
+  out << "run " << run.id() << " " << state_name(run.state());
+  if (!run.error().empty()) out << ": " << run.error();
+  out << "\n";
+  if (run.has_summary()) {
+    out << "  simulated     " << format_duration(s.sim_time_s()) << " in " << s.steps() << " steps, "
+        << format_duration(s.timers().total_s()) << " wall\n";
+    out << "  objects       " << s.objects_initial() << " -> " << s.objects_final() << " (" << s.burn_ups()
+        << " burn-ups)\n";
+    out << "  encounters    " << s.conjunctions() << " conjunctions, " << s.collisions() << " collisions, "
+        << s.evasions() << " evasions\n";
+    out << "  events        " << s.events() << ", digest " << s.events_digest() << "\n";
+    out << "  final state   digest " << s.state_digest() << "\n";
+  }
+  return out.str();
+}
+
+std::string format_duration(double seconds) {
+  if (!std::isfinite(seconds) || seconds < 0) return "?";
+  auto total = static_cast<long long>(seconds + 0.5);
+  long long d = total / 86400, h = total / 3600 % 24, m = total / 60 % 60, sec = total % 60;
+  char buf[48];
+  if (d > 0)
+    std::snprintf(buf, sizeof buf, "%lldd %02lld:%02lld:%02lld", d, h, m, sec);
+  else if (seconds < 60)
+    std::snprintf(buf, sizeof buf, "%.1fs", seconds);
+  else
+    std::snprintf(buf, sizeof buf, "%02lld:%02lld:%02lld", h, m, sec);
+  return buf;
+}
+
+std::string format_sim_time(const std::string& start_epoch, double sim_time_s) {
+  auto epoch = UtcEpoch::parse_iso8601(start_epoch.empty() ? "2022-01-01T00:00:00Z" : start_epoch);
+  if (!epoch) return json_number(sim_time_s) + " s";
+  return epoch->plus_seconds(sim_time_s).to_iso8601(3);
+}
+
+std::string render_table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows) {
+  std::vector<std::size_t> width(header.size(), 0);
+  for (std::size_t i = 0; i < header.size(); ++i) width[i] = header[i].size();
+  for (const auto& row : rows)
+    for (std::size_t i = 0; i < row.size() && i < width.size(); ++i) width[i] = std::max(width[i], row[i].size());
+  std::string out;
+  auto line = [&](const std::vector<std::string>& cells) {
+    std::string l;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      l += cells[i];
+      if (i + 1 < cells.size()) l += std::string(width[i] - cells[i].size() + 2, ' ');
+    }
+    out += l + "\n";
+  };
+  line(header);
+  for (const auto& row : rows) line(row);
+  return out;
+}
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+int usage_error(const std::string& command, const std::string& message) {
+  std::cerr << "kessler " << command << ": " << message << " (see kessler " << command << " --help)\n";
+  return kExitUsage;
+}
+
+}  // namespace kessler::cli

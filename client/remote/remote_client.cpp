@@ -1,0 +1,129 @@
+#include "client/remote/remote_client.hpp"
+
+#include <grpcpp/grpcpp.h>
+
+#include <cstdlib>
+
+#include "kessler/v1/service.grpc.pb.h"
+
+namespace kessler::cli {
+namespace {
+
+const char* code_name(grpc::StatusCode code) {
+  switch (code) {
+    case grpc::StatusCode::OK: return "OK";
+    case grpc::StatusCode::CANCELLED: return "CANCELLED";
+    case grpc::StatusCode::INVALID_ARGUMENT: return "INVALID_ARGUMENT";
+    case grpc::StatusCode::DEADLINE_EXCEEDED: return "DEADLINE_EXCEEDED";
+    case grpc::StatusCode::NOT_FOUND: return "NOT_FOUND";
+    case grpc::StatusCode::FAILED_PRECONDITION: return "FAILED_PRECONDITION";
+    case grpc::StatusCode::RESOURCE_EXHAUSTED: return "RESOURCE_EXHAUSTED";
+    case grpc::StatusCode::UNAVAILABLE: return "UNAVAILABLE";
+    case grpc::StatusCode::INTERNAL: return "INTERNAL";
+    default: return "ERROR";
+  }
+}
+
+CallResult result_of(const grpc::Status& status, const grpc::ClientContext& context) {
+  CallResult r;
+  r.ok = status.ok();
+  r.code = static_cast<int>(status.error_code());
+  r.code_name = code_name(status.error_code());
+  r.message = status.error_message();
+  const auto& trailers = context.GetServerTrailingMetadata();
+  auto it = trailers.find("kessler-field-path");
+  if (it != trailers.end()) r.field_path = std::string(it->second.data(), it->second.size());
+  return r;
+}
+
+}  // namespace
+
+std::string server_address(const std::string& flag_value) {
+  if (!flag_value.empty()) return flag_value;
+  const char* env = std::getenv("KESSLER_SERVER");
+  if (env && *env) return env;
+  return "127.0.0.1:50051";
+}
+
+int CallResult::exit_code() const { return ok ? 0 : code == 3 ? 2 : 1; }
+
+std::string CallResult::describe() const {
+  if (code == 14) return "UNAVAILABLE: cannot reach kesslerd (" + message + ")";
+  return code_name + ": " + message;
+}
+
+struct RemoteClient::Impl {
+  std::unique_ptr<v1::KesslerService::Stub> stub;
+};
+
+RemoteClient::RemoteClient(const std::string& address) : address_(address), impl_(std::make_unique<Impl>()) {
+  grpc::ChannelArguments args;
+  args.SetMaxReceiveMessageSize(512 << 20);
+  args.SetMaxSendMessageSize(-1);
+  impl_->stub = v1::KesslerService::NewStub(
+      grpc::CreateCustomChannel(address, grpc::InsecureChannelCredentials(), args));
+}
+
+RemoteClient::~RemoteClient() = default;
+
+#define KESSLER_UNARY(method, request, response)          \
+  grpc::ClientContext context;                            \
+  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(300)); \
+  auto status = impl_->stub->method(&context, request, &response); \
+  return result_of(status, context)
+
+CallResult RemoteClient::submit(const v1::SubmitRunRequest& request, v1::Run& out) {
+  KESSLER_UNARY(SubmitRun, request, out);
+}
+
+CallResult RemoteClient::get(std::int64_t run_id, v1::Run& out) {
+  v1::GetRunRequest request;
+  request.set_run_id(run_id);
+  KESSLER_UNARY(GetRun, request, out);
+}
+
+CallResult RemoteClient::list(const v1::ListRunsRequest& request, v1::ListRunsResponse& out) {
+  KESSLER_UNARY(ListRuns, request, out);
+}
+
+CallResult RemoteClient::cancel(std::int64_t run_id, v1::Run& out) {
+  v1::CancelRunRequest request;
+  request.set_run_id(run_id);
+  KESSLER_UNARY(CancelRun, request, out);
+}
+
+CallResult RemoteClient::remove(std::int64_t run_id) {
+  v1::DeleteRunRequest request;
+  request.set_run_id(run_id);
+  v1::DeleteRunResponse out;
+  KESSLER_UNARY(DeleteRun, request, out);
+}
+
+CallResult RemoteClient::conjunctions(const v1::ListConjunctionsRequest& request,
+                                      v1::ListConjunctionsResponse& out) {
+  KESSLER_UNARY(ListConjunctions, request, out);
+}
+
+CallResult RemoteClient::stats(const v1::GetRunStatsRequest& request, v1::RunStats& out) {
+  KESSLER_UNARY(GetRunStats, request, out);
+}
+
+#undef KESSLER_UNARY
+
+CallResult RemoteClient::watch(const v1::WatchRunRequest& request,
+                               const std::function<bool(const v1::RunEvent&)>& on_event) {
+  grpc::ClientContext context;
+  auto reader = impl_->stub->WatchRun(&context, request);
+  v1::RunEvent event;
+  while (reader->Read(&event)) {
+    if (!on_event(event)) {
+      context.TryCancel();
+      break;
+    }
+  }
+  auto status = reader->Finish();
+  if (status.error_code() == grpc::StatusCode::CANCELLED) status = grpc::Status::OK;
+  return result_of(status, context);
+}
+
+}  // namespace kessler::cli

@@ -1,0 +1,50 @@
+// The CLI's connection to kesslerd: one call per RPC, errors as plain values. The only part of the CLI
+// that sees gRPC (its headers stay in remote_client.cpp).
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "kessler/v1/service.pb.h"
+
+namespace kessler::cli {
+
+// --server, else $KESSLER_SERVER, else 127.0.0.1:50051.
+std::string server_address(const std::string& flag_value);
+
+struct CallResult {
+  bool ok = true;
+  int code = 0;             // gRPC status code
+  std::string code_name;    // "INVALID_ARGUMENT", ...
+  std::string message;
+  std::string field_path;   // for INVALID_ARGUMENT, when the daemon named a field
+  bool unavailable() const { return code == 14; }
+  // Exit code: 2 for a refused input (INVALID_ARGUMENT), 1 for everything else.
+  int exit_code() const;
+  std::string describe() const;  // "INVALID_ARGUMENT: dt_s: must be positive"
+};
+
+class RemoteClient {
+ public:
+  explicit RemoteClient(const std::string& address);
+  ~RemoteClient();
+
+  const std::string& address() const { return address_; }
+  CallResult submit(const v1::SubmitRunRequest& request, v1::Run& out);
+  CallResult get(std::int64_t run_id, v1::Run& out);
+  CallResult list(const v1::ListRunsRequest& request, v1::ListRunsResponse& out);
+  CallResult cancel(std::int64_t run_id, v1::Run& out);
+  CallResult remove(std::int64_t run_id);
+  CallResult conjunctions(const v1::ListConjunctionsRequest& request, v1::ListConjunctionsResponse& out);
+  CallResult stats(const v1::GetRunStatsRequest& request, v1::RunStats& out);
+  // Calls on_event for each event until the stream ends; on_event returning false ends it early.
+  CallResult watch(const v1::WatchRunRequest& request, const std::function<bool(const v1::RunEvent&)>& on_event);
+
+ private:
+  struct Impl;
+  std::string address_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace kessler::cli
