@@ -97,11 +97,21 @@ std::string json_string(const std::string& s) {
   std::string out = "\"";
   for (unsigned char c : s) {
     switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\r': out += "\\r"; break;
-      case '\t': out += "\\t"; break;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
       default:
         if (c < 0x20) {
           char buf[8];
@@ -125,14 +135,18 @@ std::string json_number(double v) {
 JsonObject& JsonObject::add(const std::string& key, const std::string& value) {
   return add_raw(key, json_string(value));
 }
-JsonObject& JsonObject::add(const std::string& key, double value) { return add_raw(key, json_number(value)); }
+JsonObject& JsonObject::add(const std::string& key, double value) {
+  return add_raw(key, json_number(value));
+}
 JsonObject& JsonObject::add(const std::string& key, std::int64_t value) {
   return add_raw(key, std::to_string(value));
 }
 JsonObject& JsonObject::add(const std::string& key, std::uint64_t value) {
   return add_raw(key, std::to_string(value));
 }
-JsonObject& JsonObject::add(const std::string& key, bool value) { return add_raw(key, value ? "true" : "false"); }
+JsonObject& JsonObject::add(const std::string& key, bool value) {
+  return add_raw(key, value ? "true" : "false");
+}
 JsonObject& JsonObject::add_raw(const std::string& key, const std::string& json) {
   fields_.push_back(json_string(key) + ": " + json);
   return *this;
@@ -154,41 +168,56 @@ std::string to_json(const google::protobuf::Message& message) {
 
 const char* state_name(v1::RunState state) {
   switch (state) {
-    case v1::RUN_STATE_QUEUED: return "queued";
-    case v1::RUN_STATE_RUNNING: return "running";
-    case v1::RUN_STATE_SUCCEEDED: return "succeeded";
-    case v1::RUN_STATE_FAILED: return "failed";
-    case v1::RUN_STATE_CANCELLED: return "cancelled";
-    default: return "unknown";
+    case v1::RUN_STATE_QUEUED:
+      return "queued";
+    case v1::RUN_STATE_RUNNING:
+      return "running";
+    case v1::RUN_STATE_SUCCEEDED:
+      return "succeeded";
+    case v1::RUN_STATE_FAILED:
+      return "failed";
+    case v1::RUN_STATE_CANCELLED:
+      return "cancelled";
+    default:
+      return "unknown";
   }
 }
 
 const char* kind_name(v1::EncounterKind kind) {
   switch (kind) {
-    case v1::ENCOUNTER_KIND_COLLISION: return "collision";
-    case v1::ENCOUNTER_KIND_EVASION: return "evasion";
-    default: return "conjunction";
+    case v1::ENCOUNTER_KIND_COLLISION:
+      return "collision";
+    case v1::ENCOUNTER_KIND_EVASION:
+      return "evasion";
+    default:
+      return "conjunction";
   }
 }
 
 std::string summary_json(const v1::Run& run) {
+  // The keys and order of `kessler run --local`'s summary line, with the run's id and state first.
   const v1::RunSummary& s = run.summary();
-  JsonObject o;
-  o.add("run_id", static_cast<std::int64_t>(run.id()));
-  o.add("state", state_name(run.state()));
-  o.add("events", static_cast<std::uint64_t>(s.events()));
-  o.add("conjunctions", static_cast<std::uint64_t>(s.conjunctions()));
-  o.add("collisions", static_cast<std::uint64_t>(s.collisions()));
-  o.add("evasions", static_cast<std::uint64_t>(s.evasions()));
-  o.add("burn_ups", static_cast<std::uint64_t>(s.burn_ups()));
-  o.add("objects_initial", static_cast<std::uint64_t>(s.objects_initial()));
-  o.add("objects_final", static_cast<std::uint64_t>(s.objects_final()));
-  o.add("steps", static_cast<std::int64_t>(s.steps()));
-  o.add("sim_time_s", s.sim_time_s());
-  o.add("wall_s", s.timers().total_s());
-  o.add("events_digest", s.events_digest());
-  o.add("state_digest", s.state_digest());
-  if (!run.error().empty()) o.add("error", run.error());
+  const v1::PhaseTimers& t = s.timers();
+  auto fixed6 = [](double v) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "%.6f", v);
+    return std::string(buf);
+  };
+  std::ostringstream o;
+  o << "{\"type\":\"summary\",\"run_id\":" << run.id() << ",\"state\":\"" << state_name(run.state())
+    << "\",\"steps\":" << s.steps() << ",\"sim_time_s\":" << json_number(s.sim_time_s())
+    << ",\"events\":" << s.events() << ",\"conjunctions\":" << s.conjunctions()
+    << ",\"collisions\":" << s.collisions() << ",\"evasions\":" << s.evasions()
+    << ",\"burn_ups\":" << s.burn_ups() << ",\"objects_initial\":" << s.objects_initial()
+    << ",\"objects_final\":" << s.objects_final() << ",\"events_digest\":" << json_string(s.events_digest())
+    << ",\"state_digest\":" << json_string(s.state_digest())
+    << ",\"cancelled\":" << (s.cancelled() || run.state() == v1::RUN_STATE_CANCELLED ? "true" : "false")
+    << ",\"timers_s\":{\"integrator\":" << fixed6(t.integrator_s())
+    << ",\"burn_up\":" << fixed6(t.burn_up_s()) << ",\"grid\":" << fixed6(t.grid_s())
+    << ",\"detection\":" << fixed6(t.detection_s()) << ",\"output\":" << fixed6(t.output_s())
+    << ",\"checkpoint\":" << fixed6(t.checkpoint_s()) << ",\"total\":" << fixed6(t.total_s()) << "}";
+  if (!run.error().empty()) o << ",\"error\":" << json_string(run.error());
+  o << "}";
   return o.str();
 }
 
@@ -231,11 +260,13 @@ std::string format_sim_time(const std::string& start_epoch, double sim_time_s) {
   return epoch->plus_seconds(sim_time_s).to_iso8601(3);
 }
 
-std::string render_table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows) {
+std::string render_table(const std::vector<std::string>& header,
+                         const std::vector<std::vector<std::string>>& rows) {
   std::vector<std::size_t> width(header.size(), 0);
   for (std::size_t i = 0; i < header.size(); ++i) width[i] = header[i].size();
   for (const auto& row : rows)
-    for (std::size_t i = 0; i < row.size() && i < width.size(); ++i) width[i] = std::max(width[i], row[i].size());
+    for (std::size_t i = 0; i < row.size() && i < width.size(); ++i)
+      width[i] = std::max(width[i], row[i].size());
   std::string out;
   auto line = [&](const std::vector<std::string>& cells) {
     std::string l;

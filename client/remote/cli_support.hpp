@@ -62,8 +62,9 @@ std::string to_json(const google::protobuf::Message& message);
 const char* state_name(v1::RunState state);
 const char* kind_name(v1::EncounterKind kind);
 
-// The run's summary object: run_id, state, events, conjunctions, collisions, evasions, burn_ups,
-// objects_initial, objects_final, steps, sim_time_s, events_digest, state_digest.
+// The run's summary object on one line: the keys of `kessler run --local`'s summary ("type":
+// "summary", steps, sim_time_s, events, conjunctions, collisions, evasions, burn_ups, objects_initial,
+// objects_final, events_digest, state_digest, cancelled, timers_s) with run_id and state added.
 std::string summary_json(const v1::Run& run);
 // A few lines for people.
 std::string summary_text(const v1::Run& run);
@@ -73,7 +74,8 @@ std::string format_duration(double seconds);
 std::string format_sim_time(const std::string& start_epoch, double sim_time_s);
 
 // Columns padded to their widest cell.
-std::string render_table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows);
+std::string render_table(const std::vector<std::string>& header,
+                         const std::vector<std::vector<std::string>>& rows);
 std::string csv_field(const std::string& s);
 
 // Prints "kessler CMD: message" and returns the usage exit code.

@@ -63,7 +63,8 @@ int conjunctions_main(int argc, char** argv) {
                            DoubleFlag{"--from-s", &v1::ListConjunctionsRequest::set_time_min_s},
                            DoubleFlag{"--to-s", &v1::ListConjunctionsRequest::set_time_max_s}}) {
     if (!o.has(name)) continue;
-    if (!parse_double(o.get(name), v)) return usage_error("conjunctions", std::string(name) + " needs a number");
+    if (!parse_double(o.get(name), v))
+      return usage_error("conjunctions", std::string(name) + " needs a number");
     (request.*set)(v);
   }
   if (o.has("--object")) {
@@ -95,8 +96,8 @@ int conjunctions_main(int argc, char** argv) {
     return r.exit_code();
   }
   const std::string epoch = run.scenario().start_epoch();
-  const std::vector<std::string> columns = {"seq",   "kind",  "id1",   "id2", "tca_s", "tca_utc", "miss_distance_m",
-                                            "kappa", "relative_speed_m_s"};
+  const std::vector<std::string> columns = {
+      "seq", "kind", "id1", "id2", "tca_s", "tca_utc", "miss_distance_m", "kappa", "relative_speed_m_s"};
   if (*format == OutputFormat::kJson) {
     std::cout << "[";
     for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -130,13 +131,15 @@ int conjunctions_main(int argc, char** argv) {
       std::snprintf(buf[1], 32, "%.3f", c.kappa());
       std::snprintf(buf[2], 32, "%.3f", c.relative_speed_m_s() / 1000.0);
       std::snprintf(buf[3], 32, "%.3f", c.tca_s());
-      table.push_back({std::to_string(c.seq()), kind_name(c.kind()), std::to_string(c.id1()), std::to_string(c.id2()),
-                       format_sim_time(epoch, c.tca_s()), buf[3], buf[0], buf[1], buf[2]});
+      table.push_back({std::to_string(c.seq()), kind_name(c.kind()), std::to_string(c.id1()),
+                       std::to_string(c.id2()), format_sim_time(epoch, c.tca_s()), buf[3], buf[0], buf[1],
+                       buf[2]});
     }
     if (table.empty())
       std::cout << "no conjunctions match\n";
     else
-      std::cout << render_table({"SEQ", "KIND", "ID1", "ID2", "TCA (UTC)", "TCA [s]", "MISS [m]", "KAPPA", "V_REL [km/s]"},
+      std::cout << render_table({"SEQ", "KIND", "ID1", "ID2", "TCA (UTC)", "TCA [s]", "MISS [m]", "KAPPA",
+                                 "V_REL [km/s]"},
                                 table)
                 << rows.size() << " conjunctions\n";
   }

@@ -11,16 +11,26 @@ namespace {
 
 const char* code_name(grpc::StatusCode code) {
   switch (code) {
-    case grpc::StatusCode::OK: return "OK";
-    case grpc::StatusCode::CANCELLED: return "CANCELLED";
-    case grpc::StatusCode::INVALID_ARGUMENT: return "INVALID_ARGUMENT";
-    case grpc::StatusCode::DEADLINE_EXCEEDED: return "DEADLINE_EXCEEDED";
-    case grpc::StatusCode::NOT_FOUND: return "NOT_FOUND";
-    case grpc::StatusCode::FAILED_PRECONDITION: return "FAILED_PRECONDITION";
-    case grpc::StatusCode::RESOURCE_EXHAUSTED: return "RESOURCE_EXHAUSTED";
-    case grpc::StatusCode::UNAVAILABLE: return "UNAVAILABLE";
-    case grpc::StatusCode::INTERNAL: return "INTERNAL";
-    default: return "ERROR";
+    case grpc::StatusCode::OK:
+      return "OK";
+    case grpc::StatusCode::CANCELLED:
+      return "CANCELLED";
+    case grpc::StatusCode::INVALID_ARGUMENT:
+      return "INVALID_ARGUMENT";
+    case grpc::StatusCode::DEADLINE_EXCEEDED:
+      return "DEADLINE_EXCEEDED";
+    case grpc::StatusCode::NOT_FOUND:
+      return "NOT_FOUND";
+    case grpc::StatusCode::FAILED_PRECONDITION:
+      return "FAILED_PRECONDITION";
+    case grpc::StatusCode::RESOURCE_EXHAUSTED:
+      return "RESOURCE_EXHAUSTED";
+    case grpc::StatusCode::UNAVAILABLE:
+      return "UNAVAILABLE";
+    case grpc::StatusCode::INTERNAL:
+      return "INTERNAL";
+    default:
+      return "ERROR";
   }
 }
 
@@ -45,7 +55,9 @@ std::string server_address(const std::string& flag_value) {
   return "127.0.0.1:50051";
 }
 
-int CallResult::exit_code() const { return ok ? 0 : code == 3 ? 2 : 1; }
+int CallResult::exit_code() const {
+  return ok ? 0 : code == 3 ? 2 : 1;
+}
 
 std::string CallResult::describe() const {
   if (code == 14) return "UNAVAILABLE: cannot reach kesslerd (" + message + ")";
@@ -66,10 +78,10 @@ RemoteClient::RemoteClient(const std::string& address) : address_(address), impl
 
 RemoteClient::~RemoteClient() = default;
 
-#define KESSLER_UNARY(method, request, response)          \
-  grpc::ClientContext context;                            \
+#define KESSLER_UNARY(method, request, response)                                      \
+  grpc::ClientContext context;                                                        \
   context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(300)); \
-  auto status = impl_->stub->method(&context, request, &response); \
+  auto status = impl_->stub->method(&context, request, &response);                    \
   return result_of(status, context)
 
 CallResult RemoteClient::submit(const v1::SubmitRunRequest& request, v1::Run& out) {

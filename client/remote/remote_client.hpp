@@ -15,10 +15,10 @@ std::string server_address(const std::string& flag_value);
 
 struct CallResult {
   bool ok = true;
-  int code = 0;             // gRPC status code
-  std::string code_name;    // "INVALID_ARGUMENT", ...
+  int code = 0;           // gRPC status code
+  std::string code_name;  // "INVALID_ARGUMENT", ...
   std::string message;
-  std::string field_path;   // for INVALID_ARGUMENT, when the daemon named a field
+  std::string field_path;  // for INVALID_ARGUMENT, when the daemon named a field
   bool unavailable() const { return code == 14; }
   // Exit code: 2 for a refused input (INVALID_ARGUMENT), 1 for everything else.
   int exit_code() const;
@@ -39,7 +39,8 @@ class RemoteClient {
   CallResult conjunctions(const v1::ListConjunctionsRequest& request, v1::ListConjunctionsResponse& out);
   CallResult stats(const v1::GetRunStatsRequest& request, v1::RunStats& out);
   // Calls on_event for each event until the stream ends; on_event returning false ends it early.
-  CallResult watch(const v1::WatchRunRequest& request, const std::function<bool(const v1::RunEvent&)>& on_event);
+  CallResult watch(const v1::WatchRunRequest& request,
+                   const std::function<bool(const v1::RunEvent&)>& on_event);
 
  private:
   struct Impl;

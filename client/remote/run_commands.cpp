@@ -37,7 +37,8 @@ std::string unix_time_text(double unix_s) {
 std::string percent(const v1::Progress& p) {
   if (p.total_steps() <= 0) return "-";
   char buf[16];
-  std::snprintf(buf, sizeof buf, "%.1f%%", 100.0 * static_cast<double>(p.step()) / static_cast<double>(p.total_steps()));
+  std::snprintf(buf, sizeof buf, "%.1f%%",
+                100.0 * static_cast<double>(p.step()) / static_cast<double>(p.total_steps()));
   return buf;
 }
 
@@ -88,7 +89,8 @@ class ProgressView {
  private:
   std::string line() const {
     const v1::Progress& p = last_;
-    double fraction = p.total_steps() > 0 ? static_cast<double>(p.step()) / static_cast<double>(p.total_steps()) : 0;
+    double fraction =
+        p.total_steps() > 0 ? static_cast<double>(p.step()) / static_cast<double>(p.total_steps()) : 0;
     int filled = static_cast<int>(fraction * 24 + 0.5);
     std::string bar = "[" + std::string(filled, '#') + std::string(24 - filled, '.') + "]";
     char rate[32] = "-";
@@ -121,9 +123,10 @@ std::string event_text(const v1::RunEvent& e, const std::string& start_epoch) {
                   c.relative_speed_m_s() / 1000.0);
   } else {
     const auto& b = e.burn_up();
-    std::snprintf(buf, sizeof buf, "#%-8llu %-11s %s  %llu  altitude %.1f km", static_cast<unsigned long long>(e.seq()),
-                  "burn-up", format_sim_time(start_epoch, b.time_s()).c_str(),
-                  static_cast<unsigned long long>(b.id()), b.altitude_m() / 1000.0);
+    std::snprintf(buf, sizeof buf, "#%-8llu %-11s %s  %llu  altitude %.1f km",
+                  static_cast<unsigned long long>(e.seq()), "burn-up",
+                  format_sim_time(start_epoch, b.time_s()).c_str(), static_cast<unsigned long long>(b.id()),
+                  b.altitude_m() / 1000.0);
   }
   return buf;
 }
@@ -171,7 +174,9 @@ int follow_run(RemoteClient& client, std::int64_t run_id, const WatchOptions& op
             ++view.conjunctions;
             notable = true;
             break;
-          case v1::ENCOUNTER_KIND_EVASION: ++view.evasions; break;
+          case v1::ENCOUNTER_KIND_EVASION:
+            ++view.evasions;
+            break;
           default:
             ++view.conjunctions;
             notable = e.encounter().kappa() <= 1.0;
@@ -246,22 +251,27 @@ int submit_main(int argc, char** argv) {
   Options o;
   std::string error;
   if (!o.parse(argc, argv,
-               {{"--watch", false}, {"--catalog", true}, {"--threads", true}, {"--events", true}, {"--retry-s", true}},
+               {{"--watch", false},
+                {"--catalog", true},
+                {"--threads", true},
+                {"--events", true},
+                {"--retry-s", true}},
                error))
     return usage_error("submit", error);
   if (o.has("--help")) {
-    std::cout << "usage: kessler submit FILE [--watch] [options]\n\n"
-                 "Sends the scenario in FILE (YAML or JSON) to kesslerd, which validates it and queues a run.\n"
-                 "Prints the run's id; with --watch, follows the run live to its end like 'kessler watch'.\n\n"
-                 "options:\n"
-                 "  --watch              follow the run to its end; exit 0 when it succeeds, 1 otherwise\n"
-                 "  --catalog FILE       use FILE's text as the scenario's inline catalog\n"
-                 "                       (population.catalog.text; TLE or OMM)\n"
-                 "  --threads N          OpenMP threads of this run (default: the daemon's --threads)\n"
-              << kWatchOptionsHelp << kServerHelp
-              << "\nexamples:\n"
-                 "  kessler submit deploy/scenarios/paper-1day.yaml --watch\n"
-                 "  kessler submit my.yaml --catalog tles.txt --output json\n";
+    std::cout
+        << "usage: kessler submit FILE [--watch] [options]\n\n"
+           "Sends the scenario in FILE (YAML or JSON) to kesslerd, which validates it and queues a run.\n"
+           "Prints the run's id; with --watch, follows the run live to its end like 'kessler watch'.\n\n"
+           "options:\n"
+           "  --watch              follow the run to its end; exit 0 when it succeeds, 1 otherwise\n"
+           "  --catalog FILE       use FILE's text as the scenario's inline catalog\n"
+           "                       (population.catalog.text; TLE or OMM)\n"
+           "  --threads N          OpenMP threads of this run (default: the daemon's --threads)\n"
+        << kWatchOptionsHelp << kServerHelp
+        << "\nexamples:\n"
+           "  kessler submit deploy/scenarios/paper-1day.yaml --watch\n"
+           "  kessler submit my.yaml --catalog tles.txt --output json\n";
     return kExitOk;
   }
   if (o.positional.size() != 1) return usage_error("submit", "expects one scenario FILE");
@@ -273,7 +283,8 @@ int submit_main(int argc, char** argv) {
   v1::SubmitRunRequest request;
   if (o.has("--catalog")) {
     std::string catalog;
-    if (!read_file(o.get("--catalog"), catalog)) return usage_error("submit", "cannot read " + o.get("--catalog"));
+    if (!read_file(o.get("--catalog"), catalog))
+      return usage_error("submit", "cannot read " + o.get("--catalog"));
     v1::Scenario scenario;
     if (auto e = parse_scenario(text, scenario)) {
       std::cerr << "kessler submit: " << o.positional[0] << ": " << e->message() << "\n";
@@ -299,11 +310,15 @@ int submit_main(int argc, char** argv) {
   }
   if (!o.has("--watch")) {
     if (w.format == OutputFormat::kJson)
-      std::cout << JsonObject().add("run_id", static_cast<std::int64_t>(run.id())).add("state", state_name(run.state())).str()
+      std::cout << JsonObject()
+                       .add("run_id", static_cast<std::int64_t>(run.id()))
+                       .add("state", state_name(run.state()))
+                       .str()
                 << "\n";
     else
       std::cout << "run " << run.id() << " " << state_name(run.state())
-                << (run.queue_position() > 0 ? " (position " + std::to_string(run.queue_position()) + ")" : "")
+                << (run.queue_position() > 0 ? " (position " + std::to_string(run.queue_position()) + ")"
+                                             : "")
                 << "\n";
     return kExitOk;
   }
@@ -319,13 +334,14 @@ int watch_main(int argc, char** argv) {
   if (!o.parse(argc, argv, {{"--after", true}, {"--events", true}, {"--retry-s", true}}, error))
     return usage_error("watch", error);
   if (o.has("--help")) {
-    std::cout << "usage: kessler watch RUN [options]\n\n"
-                 "Follows a run live: a progress bar (simulated time, rate, time left, counts) and its events as\n"
-                 "they come, then its summary. A finished run is replayed from the store. Exit 0 when the run\n"
-                 "succeeded, 1 otherwise.\n\n"
-                 "options:\n"
-                 "  --after SEQ          only events after sequence number SEQ (resume where you left off)\n"
-              << kWatchOptionsHelp << kServerHelp << "\nexample:\n  kessler watch 3 --events all\n";
+    std::cout
+        << "usage: kessler watch RUN [options]\n\n"
+           "Follows a run live: a progress bar (simulated time, rate, time left, counts) and its events as\n"
+           "they come, then its summary. A finished run is replayed from the store. Exit 0 when the run\n"
+           "succeeded, 1 otherwise.\n\n"
+           "options:\n"
+           "  --after SEQ          only events after sequence number SEQ (resume where you left off)\n"
+        << kWatchOptionsHelp << kServerHelp << "\nexample:\n  kessler watch 3 --events all\n";
     return kExitOk;
   }
   std::int64_t run_id = 0;
@@ -462,7 +478,8 @@ int show_main(int argc, char** argv) {
   }
   if (o.has("--bin-s")) {
     double bin = 0;
-    if (!parse_double(o.get("--bin-s"), bin) || bin <= 0) return usage_error("show", "--bin-s needs a positive number");
+    if (!parse_double(o.get("--bin-s"), bin) || bin <= 0)
+      return usage_error("show", "--bin-s needs a positive number");
     stats_request.set_time_bin_s(bin);
   }
   RemoteClient client(server_address(o.get("--server")));
@@ -500,26 +517,26 @@ int show_main(int argc, char** argv) {
   if (run.has_summary()) {
     const auto& t = run.summary().timers();
     std::cout << "\ntimers\n"
-              << render_table({"  PHASE", "SECONDS", "SHARE"},
-                              [&] {
-                                std::vector<std::vector<std::string>> rows;
-                                auto add = [&](const char* name, double s) {
-                                  char a[32], b[32];
-                                  std::snprintf(a, sizeof a, "%.3f", s);
-                                  std::snprintf(b, sizeof b, "%.1f%%", t.total_s() > 0 ? 100 * s / t.total_s() : 0.0);
-                                  rows.push_back({std::string("  ") + name, a, b});
-                                };
-                                add("integrator", t.integrator_s());
-                                add("burn-up", t.burn_up_s());
-                                add("grid", t.grid_s());
-                                add("detection", t.detection_s());
-                                add("output", t.output_s());
-                                add("checkpoint", t.checkpoint_s());
-                                add("total", t.total_s());
-                                return rows;
-                              }());
+              << render_table({"  PHASE", "SECONDS", "SHARE"}, [&] {
+                   std::vector<std::vector<std::string>> rows;
+                   auto add = [&](const char* name, double s) {
+                     char a[32], b[32];
+                     std::snprintf(a, sizeof a, "%.3f", s);
+                     std::snprintf(b, sizeof b, "%.1f%%", t.total_s() > 0 ? 100 * s / t.total_s() : 0.0);
+                     rows.push_back({std::string("  ") + name, a, b});
+                   };
+                   add("integrator", t.integrator_s());
+                   add("burn-up", t.burn_up_s());
+                   add("grid", t.grid_s());
+                   add("detection", t.detection_s());
+                   add("output", t.output_s());
+                   add("checkpoint", t.checkpoint_s());
+                   add("total", t.total_s());
+                   return rows;
+                 }());
   }
-  std::cout << "\nconjunctions by kappa (cumulative, per " << format_duration(stats.time_bin_s()) << " bin)\n";
+  std::cout << "\nconjunctions by kappa (cumulative, per " << format_duration(stats.time_bin_s())
+            << " bin)\n";
   std::vector<std::string> header = {"  FROM"};
   for (const auto& series : stats.by_kappa()) {
     char buf[32];
@@ -528,14 +545,15 @@ int show_main(int argc, char** argv) {
   }
   std::vector<std::vector<std::string>> rows;
   for (int b = 0; b < stats.bin_start_s_size(); ++b) {
-    std::vector<std::string> row = {"  " + format_sim_time(run.scenario().start_epoch(), stats.bin_start_s(b))};
+    std::vector<std::string> row = {"  " +
+                                    format_sim_time(run.scenario().start_epoch(), stats.bin_start_s(b))};
     for (const auto& series : stats.by_kappa())
       row.push_back(b < series.cumulative_size() ? std::to_string(series.cumulative(b)) : "-");
     rows.push_back(row);
   }
   std::cout << render_table(header, rows);
-  std::cout << "  total: " << stats.conjunctions() << " conjunctions, " << stats.collisions() << " collisions, "
-            << stats.evasions() << " evasions, " << stats.burn_ups() << " burn-ups\n\n";
+  std::cout << "  total: " << stats.conjunctions() << " conjunctions, " << stats.collisions()
+            << " collisions, " << stats.evasions() << " evasions, " << stats.burn_ups() << " burn-ups\n\n";
   std::cout << summary_text(run);
   return kExitOk;
 }
@@ -605,8 +623,8 @@ int delete_main(int argc, char** argv) {
 
 }  // namespace
 
-KESSLER_COMMAND("submit", 20, "submit FILE [--watch]", "queue a run of a scenario on kesslerd (and follow it)",
-                submit_main);
+KESSLER_COMMAND("submit", 20, "submit FILE [--watch]",
+                "queue a run of a scenario on kesslerd (and follow it)", submit_main);
 KESSLER_COMMAND("watch", 21, "watch RUN", "follow a run live: progress, events, summary", watch_main);
 KESSLER_COMMAND("runs", 22, "runs [--state S]", "list runs", runs_main);
 KESSLER_COMMAND("show", 23, "show RUN", "a run's scenario, state, timers and conjunction counts by kappa",

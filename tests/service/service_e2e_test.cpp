@@ -1,0 +1,498 @@
+// End to end through the real daemon and CLI binaries on loopback: submit, watch, list, query in
+// every format; results equal an in-process run of the same scenario; restarts, SIGKILL mid-run and
+// SIGTERM keep every run and event exactly once; reconnecting watchers get exactly the rest; bad
+// submissions are refused with the right status and the daemon keeps serving.
+#include <grpcpp/grpcpp.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <map>
+#include <set>
+#include <thread>
+
+#include "core/scenario/run_builder.hpp"
+#include "kessler/v1/service.grpc.pb.h"
+#include "tests/service/service_harness.hpp"
+
+namespace kessler {
+namespace {
+
+using test::cli;
+using test::Daemon;
+
+const std::string kTiny = test::source_path("tests/service/scenarios/tiny.yaml");
+
+std::unique_ptr<v1::KesslerService::Stub> connect(const Daemon& d) {
+  grpc::ChannelArguments args;
+  args.SetMaxReceiveMessageSize(256 << 20);
+  return v1::KesslerService::NewStub(
+      grpc::CreateCustomChannel(d.address(), grpc::InsecureChannelCredentials(), args));
+}
+
+// An event in comparable form: everything deterministic about it, as text.
+std::string describe(const v1::RunEvent& e) {
+  std::ostringstream s;
+  s.precision(17);
+  s << e.seq() << " ";
+  if (e.has_encounter()) {
+    const auto& c = e.encounter();
+    s << "enc " << c.id1() << " " << c.id2() << " " << c.tca_s() << " " << c.miss_distance_m() << " "
+      << c.kappa() << " " << c.relative_speed_m_s() << " " << c.kind() << " " << c.r1_m().x() << " "
+      << c.v2_m_s().z();
+  } else if (e.has_burn_up()) {
+    s << "burn " << e.burn_up().id() << " " << e.burn_up().time_s() << " " << e.burn_up().altitude_m();
+  } else if (e.has_progress()) {
+    s << "prog " << e.progress().step() << " " << e.progress().sim_time_s() << " "
+      << e.progress().objects_alive();
+  }
+  return s.str();
+}
+
+// The same scenario run in this process, its events described as above.
+struct LocalRun {
+  std::vector<std::string> events;
+  RunSummary summary;
+};
+
+class CollectingSink final : public EventSink {
+ public:
+  std::vector<v1::RunEvent> events;
+  void on_encounter(std::uint64_t seq, const Encounter& e) override {
+    v1::RunEvent ev;
+    ev.set_seq(seq);
+    auto* c = ev.mutable_encounter();
+    c->set_id1(e.id1);
+    c->set_id2(e.id2);
+    c->set_tca_s(e.tca_s);
+    c->set_miss_distance_m(e.miss_distance_m);
+    c->set_kappa(e.kappa);
+    c->set_relative_speed_m_s(e.relative_speed_m_s);
+    c->set_kind(static_cast<v1::EncounterKind>(e.kind));
+    c->mutable_r1_m()->set_x(e.r1_m.x());
+    c->mutable_v2_m_s()->set_z(e.v2_m_s.z());
+    events.push_back(ev);
+  }
+  void on_burn_up(std::uint64_t seq, const BurnUp& b) override {
+    v1::RunEvent ev;
+    ev.set_seq(seq);
+    ev.mutable_burn_up()->set_id(b.id);
+    ev.mutable_burn_up()->set_time_s(b.time_s);
+    ev.mutable_burn_up()->set_altitude_m(b.altitude_m);
+    events.push_back(ev);
+  }
+  void on_progress(std::uint64_t seq, const Progress& p) override {
+    v1::RunEvent ev;
+    ev.set_seq(seq);
+    ev.mutable_progress()->set_step(p.step);
+    ev.mutable_progress()->set_sim_time_s(p.sim_time_s);
+    ev.mutable_progress()->set_objects_alive(p.objects_alive);
+    events.push_back(ev);
+  }
+  void on_checkpoint(std::uint64_t, std::int64_t, const std::string&) override {}
+  void on_finished(const RunSummary&) override {}
+  void on_failed(const std::string&) override {}
+};
+
+LocalRun run_in_process(const std::string& path) {
+  v1::Scenario scenario;
+  auto error = parse_scenario(test::read_text(path), scenario);
+  if (error) throw std::runtime_error(error->message());
+  FieldError build_error;
+  auto simulation = build_simulation(scenario, BuildOptions{}, &build_error);
+  if (!simulation) throw std::runtime_error(build_error.message());
+  CollectingSink sink;
+  RunControl control;
+  LocalRun local;
+  local.summary = simulation->run(sink, control);
+  for (const auto& e : sink.events) local.events.push_back(describe(e));
+  return local;
+}
+
+v1::Run get_run(v1::KesslerService::Stub& stub, std::int64_t id, grpc::Status* status = nullptr) {
+  grpc::ClientContext context;
+  v1::GetRunRequest request;
+  request.set_run_id(id);
+  v1::Run run;
+  auto s = stub.GetRun(&context, request, &run);
+  if (status) *status = s;
+  return run;
+}
+
+v1::Run wait_until_ended(v1::KesslerService::Stub& stub, std::int64_t id, int timeout_s = 120) {
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(timeout_s);
+  for (;;) {
+    v1::Run run = get_run(stub, id);
+    if (run.state() >= v1::RUN_STATE_SUCCEEDED || std::chrono::steady_clock::now() > deadline) return run;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+}
+
+grpc::Status submit(v1::KesslerService::Stub& stub, const v1::SubmitRunRequest& request, v1::Run& run) {
+  grpc::ClientContext context;
+  return stub.SubmitRun(&context, request, &run);
+}
+
+std::int64_t submit_file(v1::KesslerService::Stub& stub, const std::string& path) {
+  v1::SubmitRunRequest request;
+  request.set_scenario_text(test::read_text(path));
+  v1::Run run;
+  auto status = submit(stub, request, run);
+  if (!status.ok()) throw std::runtime_error("submit: " + status.error_message());
+  return run.id();
+}
+
+// Watches from after_seq; stops after max_events numbered events (0: to the end).
+std::vector<v1::RunEvent> watch(v1::KesslerService::Stub& stub, std::int64_t id, std::uint64_t after_seq,
+                                std::size_t max_events = 0, bool* ended = nullptr) {
+  grpc::ClientContext context;
+  v1::WatchRunRequest request;
+  request.set_run_id(id);
+  request.set_after_seq(after_seq);
+  auto reader = stub.WatchRun(&context, request);
+  std::vector<v1::RunEvent> events;
+  v1::RunEvent event;
+  bool saw_end = false;
+  while (reader->Read(&event)) {
+    if (event.has_state()) {
+      saw_end = event.state().state() >= v1::RUN_STATE_SUCCEEDED;
+      continue;
+    }
+    events.push_back(event);
+    if (max_events && events.size() >= max_events) {
+      context.TryCancel();
+      break;
+    }
+  }
+  reader->Finish();
+  if (ended) *ended = saw_end;
+  return events;
+}
+
+std::vector<std::string> described(const std::vector<v1::RunEvent>& events) {
+  std::vector<std::string> out;
+  for (const auto& e : events) out.push_back(describe(e));
+  return out;
+}
+
+std::vector<v1::Encounter> all_conjunctions(v1::KesslerService::Stub& stub, std::int64_t id) {
+  std::vector<v1::Encounter> out;
+  v1::ListConjunctionsRequest request;
+  request.set_run_id(id);
+  request.set_include_evasions(true);
+  request.set_page_size(500);
+  for (;;) {
+    grpc::ClientContext context;
+    v1::ListConjunctionsResponse response;
+    auto status = stub.ListConjunctions(&context, request, &response);
+    if (!status.ok()) throw std::runtime_error(status.error_message());
+    out.insert(out.end(), response.conjunctions().begin(), response.conjunctions().end());
+    if (response.next_page_token().empty()) return out;
+    request.set_page_token(response.next_page_token());
+  }
+}
+
+std::size_t count_lines(const std::string& text) {
+  return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+}
+
+TEST(ServiceEndToEnd, SubmitWatchListQueryAndRestartMatchAnInProcessRun) {
+  TempDir dir;
+  LocalRun local = run_in_process(kTiny);
+  ASSERT_GT(local.summary.conjunctions, 0u) << "the test scenario should produce conjunctions";
+
+  auto daemon = std::make_unique<Daemon>(dir.path() + "/k.db");
+  daemon->start();
+  const std::string server = " --server " + daemon->address();
+
+  // submit --watch --output json: the last line is the summary object.
+  auto submitted = cli(dir, "submit " + kTiny + " --watch --output json" + server);
+  ASSERT_EQ(submitted.exit_code, 0) << submitted.err;
+  std::string summary = submitted.last_line();
+  EXPECT_NE(summary.find("\"run_id\":1"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"state\":\"succeeded\""), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"events_digest\":\"" + local.summary.events_digest + "\""), std::string::npos)
+      << summary;
+  EXPECT_NE(summary.find("\"state_digest\":\"" + local.summary.state_digest + "\""), std::string::npos)
+      << summary;
+  EXPECT_NE(summary.find("\"objects_final\":" + std::to_string(local.summary.objects_final)),
+            std::string::npos);
+
+  auto stub = connect(*daemon);
+  // Every event, in order, equal to the in-process run.
+  bool ended = false;
+  EXPECT_EQ(described(watch(*stub, 1, 0, 0, &ended)), local.events);
+  EXPECT_TRUE(ended);
+  auto conjunctions = all_conjunctions(*stub, 1);
+  std::vector<std::string> expected_encounters;
+  for (const auto& e : local.events)
+    if (e.find(" enc ") != std::string::npos) expected_encounters.push_back(e);
+  std::vector<std::string> got_encounters;
+  for (const auto& c : conjunctions) {
+    v1::RunEvent e;
+    e.set_seq(c.seq());
+    *e.mutable_encounter() = c;
+    got_encounters.push_back(describe(e));
+  }
+  EXPECT_EQ(got_encounters, expected_encounters);
+
+  // runs, show, conjunctions in table, CSV and JSON.
+  auto runs = cli(dir, "runs" + server);
+  EXPECT_EQ(runs.exit_code, 0);
+  EXPECT_NE(runs.out.find("succeeded"), std::string::npos) << runs.out;
+  auto runs_json = cli(dir, "runs --output json" + server);
+  EXPECT_NE(runs_json.out.find("\"run_id\": 1"), std::string::npos) << runs_json.out;
+  auto show = cli(dir, "show 1 --output json" + server);
+  EXPECT_EQ(show.exit_code, 0) << show.err;
+  EXPECT_EQ(show.last_line(), summary);
+  auto show_table = cli(dir, "show 1" + server);
+  EXPECT_NE(show_table.out.find("conjunctions by kappa"), std::string::npos);
+  EXPECT_NE(show_table.out.find("integrator"), std::string::npos);
+
+  std::size_t n_conj = 0;
+  for (const auto& c : conjunctions) n_conj += c.kind() != v1::ENCOUNTER_KIND_EVASION;
+  auto csv = cli(dir, "conjunctions 1 --output csv" + server);
+  EXPECT_EQ(csv.exit_code, 0) << csv.err;
+  EXPECT_EQ(csv.out.rfind("seq,kind,id1,id2,tca_s", 0), 0u) << csv.out.substr(0, 200);
+  EXPECT_EQ(count_lines(csv.out), n_conj + 1);
+  auto json = cli(dir, "conjunctions 1 --output json" + server);
+  EXPECT_EQ(static_cast<std::size_t>(std::count(json.out.begin(), json.out.end(), '{')), n_conj);
+  auto table = cli(dir, "conjunctions 1 --limit 3" + server);
+  EXPECT_EQ(count_lines(table.out), 5u) << table.out;  // header, 3 rows, count
+  auto pairs = cli(dir, "conjunctions 1 --closest-per-pair --output csv" + server);
+  std::set<std::pair<std::uint64_t, std::uint64_t>> distinct;
+  for (const auto& c : conjunctions)
+    if (c.kind() != v1::ENCOUNTER_KIND_EVASION) distinct.insert({c.id1(), c.id2()});
+  EXPECT_EQ(count_lines(pairs.out), distinct.size() + 1);
+
+  // Restart: the run and its conjunctions are still there.
+  EXPECT_EQ(daemon->terminate(), 0) << daemon->log();
+  daemon = std::make_unique<Daemon>(dir.path() + "/k.db");
+  daemon->start();
+  stub = connect(*daemon);
+  EXPECT_EQ(get_run(*stub, 1).state(), v1::RUN_STATE_SUCCEEDED);
+  EXPECT_EQ(all_conjunctions(*stub, 1).size(), conjunctions.size());
+  EXPECT_EQ(cli(dir, "show 1 --output json --server " + daemon->address()).last_line(), summary);
+
+  // Delete: gone.
+  EXPECT_EQ(cli(dir, "delete 1 --server " + daemon->address()).exit_code, 0);
+  grpc::Status status;
+  get_run(*stub, 1, &status);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND);
+  EXPECT_EQ(cli(dir, "show 1 --server " + daemon->address()).exit_code, 1);
+}
+
+TEST(ServiceEndToEnd, SigkillMidRunThenRestartCompletesWithTheSameEvents) {
+  TempDir dir;
+  LocalRun local = run_in_process(kTiny);
+  auto daemon = std::make_unique<Daemon>(dir.path() + "/k.db", std::vector<std::string>{"--threads", "1"});
+  daemon->start();
+  auto stub = connect(*daemon);
+  std::int64_t id = submit_file(*stub, kTiny);
+  // Wait until the run is well under way (a few checkpoints stored), then kill the daemon outright.
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  v1::Run run;
+  do {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    run = get_run(*stub, id);
+  } while (run.progress().step() < run.progress().total_steps() / 3 && run.state() <= v1::RUN_STATE_RUNNING &&
+           std::chrono::steady_clock::now() < deadline);
+  ASSERT_EQ(run.state(), v1::RUN_STATE_RUNNING) << "the run ended before it could be interrupted";
+  daemon->kill9();
+
+  daemon = std::make_unique<Daemon>(dir.path() + "/k.db");
+  daemon->start();
+  stub = connect(*daemon);
+  run = wait_until_ended(*stub, id);
+  ASSERT_EQ(run.state(), v1::RUN_STATE_SUCCEEDED) << run.error();
+  EXPECT_EQ(run.summary().events_digest(), local.summary.events_digest);
+  EXPECT_EQ(run.summary().state_digest(), local.summary.state_digest);
+  EXPECT_EQ(described(watch(*stub, id, 0)), local.events);  // none lost, none twice
+}
+
+TEST(ServiceEndToEnd, SigtermCheckpointsTheRunningRunWhichResumesAtTheNextStart) {
+  TempDir dir;
+  LocalRun local = run_in_process(kTiny);
+  auto daemon = std::make_unique<Daemon>(dir.path() + "/k.db");
+  daemon->start();
+  auto stub = connect(*daemon);
+  std::int64_t id = submit_file(*stub, kTiny);
+  std::int64_t queued = submit_file(*stub, kTiny);
+  v1::Run run;
+  do {
+    run = get_run(*stub, id);
+  } while (run.progress().step() == 0 && run.state() <= v1::RUN_STATE_RUNNING);
+  EXPECT_EQ(daemon->terminate(), 0) << daemon->log();
+  daemon = std::make_unique<Daemon>(dir.path() + "/k.db");
+  daemon->start();
+  stub = connect(*daemon);
+  for (std::int64_t r : {id, queued}) {
+    run = wait_until_ended(*stub, r);
+    ASSERT_EQ(run.state(), v1::RUN_STATE_SUCCEEDED) << run.error();
+    EXPECT_EQ(run.summary().events_digest(), local.summary.events_digest);
+    EXPECT_EQ(described(watch(*stub, r, 0)), local.events);
+  }
+}
+
+TEST(ServiceEndToEnd, AWatcherThatReconnectsWithItsLastSequenceGetsExactlyTheRest) {
+  TempDir dir;
+  auto daemon = std::make_unique<Daemon>(dir.path() + "/k.db");
+  daemon->start();
+  auto stub = connect(*daemon);
+  std::int64_t id = submit_file(*stub, kTiny);
+  // Several watchers at once; each disconnects now and then and comes back with its last number.
+  std::vector<std::vector<v1::RunEvent>> seen(4);
+  std::vector<std::thread> watchers;
+  for (std::size_t w = 0; w < seen.size(); ++w) {
+    watchers.emplace_back([&, w] {
+      std::uint64_t cursor = 0;
+      bool ended = false;
+      for (int round = 0; round < 1000 && !ended; ++round) {
+        auto part = watch(*stub, id, cursor, 7 + 5 * w, &ended);
+        if (!part.empty()) cursor = part.back().seq();
+        seen[w].insert(seen[w].end(), part.begin(), part.end());
+      }
+    });
+  }
+  for (auto& t : watchers) t.join();
+  ASSERT_EQ(wait_until_ended(*stub, id).state(), v1::RUN_STATE_SUCCEEDED);
+  auto all = described(watch(*stub, id, 0));
+  ASSERT_FALSE(all.empty());
+  for (const auto& s : seen) EXPECT_EQ(described(s), all);
+  // And from the middle of a finished run: exactly the tail.
+  std::size_t half = all.size() / 2;
+  std::uint64_t half_seq = std::stoull(all[half - 1]);
+  auto tail = described(watch(*stub, id, half_seq));
+  EXPECT_EQ(tail, std::vector<std::string>(all.begin() + static_cast<long>(half), all.end()));
+  // The CLI's watch of a finished run replays it and ends with the summary.
+  auto replay = cli(dir, "watch " + std::to_string(id) + " --output json --server " + daemon->address());
+  EXPECT_EQ(replay.exit_code, 0);
+  EXPECT_NE(replay.last_line().find("\"state\":\"succeeded\""), std::string::npos);
+}
+
+TEST(ServiceEndToEnd, BadSubmissionsAreRefusedNamingTheProblemAndTheDaemonKeepsServing) {
+  TempDir dir;
+  auto daemon =
+      std::make_unique<Daemon>(dir.path() + "/k.db", std::vector<std::string>{"--max-message-mb", "40"});
+  daemon->start();
+  auto stub = connect(*daemon);
+  const std::string base = test::read_text(kTiny);
+  struct Case {
+    std::string text;
+    std::string path;  // expected in the message
+  };
+  // Each field wrong in turn (appended keys override; the parser takes the last).
+  std::vector<Case> cases = {
+      {"name: x\ndt_s: -10\npopulation: {synthetic: {objects: 10}}\n", "dt_s"},
+      {"name: x\ndt_s: 0\npopulation: {synthetic: {objects: 10}}\n", "dt_s"},
+      {"name: x\nduration_days: -1\npopulation: {synthetic: {objects: 10}}\n", "duration_days"},
+      {"name: x\nstart_epoch: \"yesterday\"\npopulation: {synthetic: {objects: 10}}\n", "start_epoch"},
+      {"name: x\nend_epoch: \"2021-01-01T00:00:00Z\"\npopulation: {synthetic: {objects: 10}}\n", "end_epoch"},
+      {"name: x\npopulation: {synthetic: {objects: 10}}\nconjunctions: {kappa_max: 50}\n", "kappa_max"},
+      {"name: x\npopulation: {synthetic: {objects: 10}}\nconjunctions: {kappa_max: -1}\n", "kappa_max"},
+      {"name: x\npopulation: {synthetic: {objects: 10}}\nburn_up_altitude_km: -5\n", "burn_up_altitude_km"},
+      {"name: x\npopulation: {synthetic: {objects: 0}}\n", "population"},
+      {"name: x\npopulation: {synthetic: {objects: 10, min_altitude_km: 900, max_altitude_km: 400}}\n",
+       "altitude"},
+      {"name: x\npopulation: {dataset: no-such-dataset}\n", "population.dataset"},
+      {"name: x\npopulation: {synthetic: {objects: 10}}\nprogress_every_steps: -3\n", "progress_every_steps"},
+      {"name: x\npopulation: {synthetic: {objects: 10}}\ncheckpoints: {every_steps: -1}\n", "checkpoints"},
+      {"name: x\npopulation: {synthetic: {objects: 10}}\nno_such_field: 1\n", "no_such_field"},
+      {"name: x\npopulation: {synthetic: {objects: 10}}\nforce_model: {drag: maybe}\n", "force_model.drag"},
+      {"name: [unclosed\n", ""},
+      {"name: x\n", "population"},
+  };
+  for (const auto& c : cases) {
+    v1::SubmitRunRequest request;
+    request.set_scenario_text(c.text);
+    v1::Run run;
+    auto status = submit(*stub, request, run);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT)
+        << c.text << " -> " << status.error_message();
+    EXPECT_NE(status.error_message().find(c.path), std::string::npos)
+        << c.text << " -> " << status.error_message();
+  }
+  // A broken inline catalog.
+  v1::SubmitRunRequest broken;
+  broken.mutable_scenario()->set_name("broken-catalog");
+  broken.mutable_scenario()->mutable_population()->mutable_catalog()->set_text("GARBAGE\nnot a TLE at all\n");
+  broken.mutable_scenario()->mutable_population()->mutable_rules()->set_strict(true);
+  v1::Run run;
+  auto status = submit(*stub, broken, run);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << status.error_message();
+  EXPECT_NE(status.error_message().find("population.catalog"), std::string::npos) << status.error_message();
+  // A 30 MB catalog passes the size limit (and is judged on its content: junk here).
+  std::string big(30u << 20, 'x');
+  for (std::size_t i = 80; i < big.size(); i += 81) big[i] = '\n';
+  broken.mutable_scenario()->mutable_population()->mutable_catalog()->set_text(big);
+  status = submit(*stub, broken, run);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << status.error_message();
+  // One above the daemon's limit is RESOURCE_EXHAUSTED.
+  big.resize(45u << 20, 'x');
+  broken.mutable_scenario()->mutable_population()->mutable_catalog()->set_text(big);
+  status = submit(*stub, broken, run);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << status.error_message();
+
+  // Through the CLI: exit 2 and the field on stderr.
+  test::write_text(dir.path() + "/bad.yaml", cases[0].text);
+  auto bad = cli(dir, "submit " + dir.path() + "/bad.yaml --server " + daemon->address());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("INVALID_ARGUMENT"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("dt_s"), std::string::npos) << bad.err;
+  EXPECT_EQ(cli(dir, "submit").exit_code, 2);
+  EXPECT_EQ(cli(dir, "submit --bogus x.yaml").exit_code, 2);
+  EXPECT_EQ(cli(dir, "conjunctions notanumber").exit_code, 2);
+
+  // Still serving: a good run goes through.
+  std::int64_t id = submit_file(*stub, kTiny);
+  EXPECT_EQ(wait_until_ended(*stub, id).state(), v1::RUN_STATE_SUCCEEDED);
+  EXPECT_TRUE(daemon->alive());
+}
+
+TEST(ServiceEndToEnd, StatusCodesForQueueLimitsCancelDeleteAndUnknownRuns) {
+  TempDir dir;
+  auto daemon =
+      std::make_unique<Daemon>(dir.path() + "/k.db", std::vector<std::string>{"--queue-limit", "1"});
+  daemon->start();
+  auto stub = connect(*daemon);
+  std::int64_t running = submit_file(*stub, kTiny);
+  while (get_run(*stub, running).state() == v1::RUN_STATE_QUEUED)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  std::int64_t queued = submit_file(*stub, kTiny);
+  v1::SubmitRunRequest request;
+  request.set_scenario_text(test::read_text(kTiny));
+  v1::Run run;
+  EXPECT_EQ(submit(*stub, request, run).error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  const std::string server = " --server " + daemon->address();
+  auto full = cli(dir, "submit " + kTiny + server);
+  EXPECT_EQ(full.exit_code, 1);
+  EXPECT_NE(full.err.find("RESOURCE_EXHAUSTED"), std::string::npos);
+
+  // Deleting a live run is refused; cancelling works for queued and running runs.
+  auto del = cli(dir, "delete " + std::to_string(queued) + server);
+  EXPECT_EQ(del.exit_code, 1);
+  EXPECT_NE(del.err.find("FAILED_PRECONDITION"), std::string::npos) << del.err;
+  EXPECT_EQ(cli(dir, "cancel " + std::to_string(queued) + server).exit_code, 0);
+  EXPECT_EQ(get_run(*stub, queued).state(), v1::RUN_STATE_CANCELLED);
+  EXPECT_EQ(cli(dir, "cancel " + std::to_string(running) + server).exit_code, 0);
+  EXPECT_EQ(wait_until_ended(*stub, running).state(), v1::RUN_STATE_CANCELLED);
+  auto again = cli(dir, "cancel " + std::to_string(running) + server);
+  EXPECT_EQ(again.exit_code, 1);
+  EXPECT_NE(again.err.find("FAILED_PRECONDITION"), std::string::npos);
+  EXPECT_EQ(cli(dir, "delete " + std::to_string(running) + server).exit_code, 0);
+
+  grpc::Status status;
+  get_run(*stub, 999, &status);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND);
+  auto missing = cli(dir, "watch 999" + server);
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("NOT_FOUND"), std::string::npos);
+  auto listed = cli(dir, "runs --state cancelled --output csv" + server);
+  EXPECT_EQ(count_lines(listed.out), 2u) << listed.out;  // header + the queued run cancelled
+  // No daemon at all: exit 1 with a clear message.
+  auto unreachable = cli(dir, "runs", "KESSLER_SERVER=127.0.0.1:1");
+  EXPECT_EQ(unreachable.exit_code, 1);
+  EXPECT_NE(unreachable.err.find("UNAVAILABLE"), std::string::npos) << unreachable.err;
+}
+
+}  // namespace
+}  // namespace kessler
