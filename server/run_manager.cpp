@@ -355,7 +355,7 @@ void RunManager::execute(std::int64_t run_id, RunControl& control) {
     finish(run_id, v1::RUN_STATE_FAILED, sink.failure().empty() ? e.what() : sink.failure(), nullptr);
     return;
   }
-  if (control.stop_after_checkpoint && !control.cancel) {
+  if (control.stop_after_checkpoint && !control.cancel && summary.cancelled) {
     // Daemon shutdown: the run stays "running" in the store and resumes at the next start.
     store_.flush();
     std::lock_guard lock(hubs_mutex_);

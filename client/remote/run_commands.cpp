@@ -1,6 +1,7 @@
 // kessler submit, watch, runs, show, cancel, delete: the run lifecycle against kesslerd.
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -91,8 +92,11 @@ class ProgressView {
     const v1::Progress& p = last_;
     double fraction =
         p.total_steps() > 0 ? static_cast<double>(p.step()) / static_cast<double>(p.total_steps()) : 0;
-    int filled = static_cast<int>(fraction * 24 + 0.5);
-    std::string bar = "[" + std::string(filled, '#') + std::string(24 - filled, '.') + "]";
+    const int filled = std::clamp(static_cast<int>(fraction * 24 + 0.5), 0, 24);
+    std::string bar(26, '.');
+    bar.front() = '[';
+    bar.back() = ']';
+    for (int i = 0; i < filled; ++i) bar[static_cast<std::size_t>(i) + 1] = '#';
     char rate[32] = "-";
     if (p.wall_s() > 0) std::snprintf(rate, sizeof rate, "%.0fx", p.sim_time_s() / p.wall_s());
     std::ostringstream s;
