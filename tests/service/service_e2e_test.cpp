@@ -411,24 +411,35 @@ TEST(ServiceEndToEnd, BadSubmissionsAreRefusedNamingTheProblemAndTheDaemonKeepsS
     EXPECT_NE(status.error_message().find(c.path), std::string::npos)
         << c.text << " -> " << status.error_message();
   }
-  // A broken inline catalog.
+  // A broken inline catalog: element sets with a bad checksum, strict rules refuse it naming the line.
   v1::SubmitRunRequest broken;
   broken.mutable_scenario()->set_name("broken-catalog");
-  broken.mutable_scenario()->mutable_population()->mutable_catalog()->set_text("GARBAGE\nnot a TLE at all\n");
+  auto* catalog = broken.mutable_scenario()->mutable_population()->mutable_catalog();
+  catalog->set_format(v1::CATALOG_FORMAT_TLE);
+  catalog->set_text(
+      "SAT A\n"
+      "1 25544U 98067A   22021.50000000  .00001234  00000-0  12345-4 0  9991\n"
+      "2 25544  51.6400 100.0000 0005000  90.0000 270.0000 15.50000000123456\n");
   broken.mutable_scenario()->mutable_population()->mutable_rules()->set_strict(true);
   v1::Run run;
   auto status = submit(*stub, broken, run);
   EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << status.error_message();
   EXPECT_NE(status.error_message().find("population.catalog"), std::string::npos) << status.error_message();
+  // Text that is no catalog at all.
+  catalog->set_format(v1::CATALOG_FORMAT_UNSPECIFIED);
+  catalog->set_text("GARBAGE\nnot a catalog at all\n");
+  status = submit(*stub, broken, run);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << status.error_message();
+  EXPECT_NE(status.error_message().find("population"), std::string::npos) << status.error_message();
   // A 30 MB catalog passes the size limit (and is judged on its content: junk here).
   std::string big(30u << 20, 'x');
   for (std::size_t i = 80; i < big.size(); i += 81) big[i] = '\n';
-  broken.mutable_scenario()->mutable_population()->mutable_catalog()->set_text(big);
+  catalog->set_text(big);
   status = submit(*stub, broken, run);
   EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << status.error_message();
   // One above the daemon's limit is RESOURCE_EXHAUSTED.
   big.resize(45u << 20, 'x');
-  broken.mutable_scenario()->mutable_population()->mutable_catalog()->set_text(big);
+  catalog->set_text(big);
   status = submit(*stub, broken, run);
   EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << status.error_message();
 
