@@ -49,25 +49,22 @@ const char* const kMigrations[] = {
       summary BLOB
     );
     CREATE INDEX runs_by_state ON runs(state, id);
+    -- Every event, its payload the RunEvent message. Encounters (kind 2) also carry the columns the
+    -- conjunction queries filter on, so one row per event serves both the stream and the queries.
     CREATE TABLE events (
       run_id INTEGER NOT NULL,
       seq INTEGER NOT NULL,
       kind INTEGER NOT NULL,
       payload BLOB NOT NULL,
+      id1 INTEGER,
+      id2 INTEGER,
+      tca_s REAL,
+      miss_distance_m REAL,
+      kappa REAL,
+      encounter_kind INTEGER,
       PRIMARY KEY (run_id, seq)
     ) WITHOUT ROWID;
-    CREATE TABLE conjunctions (
-      run_id INTEGER NOT NULL,
-      seq INTEGER NOT NULL,
-      id1 INTEGER NOT NULL,
-      id2 INTEGER NOT NULL,
-      tca_s REAL NOT NULL,
-      miss_distance_m REAL NOT NULL,
-      kappa REAL NOT NULL,
-      kind INTEGER NOT NULL,
-      PRIMARY KEY (run_id, seq)
-    ) WITHOUT ROWID;
-    CREATE INDEX conjunctions_by_pair ON conjunctions(run_id, id1, id2, miss_distance_m);
+    CREATE INDEX encounters_by_pair ON events(run_id, id1, id2, miss_distance_m) WHERE kind = 2;
     CREATE TABLE checkpoints (
       run_id INTEGER PRIMARY KEY,
       last_seq INTEGER NOT NULL,
@@ -115,6 +112,7 @@ class Statement {
   Statement& bind(int i, const std::string& v) {
     return ok(sqlite3_bind_text(stmt_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT));
   }
+  Statement& bind_null(int i) { return ok(sqlite3_bind_null(stmt_, i)); }
   Statement& bind_blob(int i, const std::string& v) {
     return ok(sqlite3_bind_blob(stmt_, i, v.data(), static_cast<int>(v.size()), SQLITE_STATIC));
   }
@@ -374,9 +372,8 @@ bool Store::delete_run(std::int64_t run_id) {
   exec(lease.db(), "BEGIN IMMEDIATE");
   try {
     bool existed = false;
-    for (const char* sql :
-         {"DELETE FROM events WHERE run_id = ?", "DELETE FROM conjunctions WHERE run_id = ?",
-          "DELETE FROM checkpoints WHERE run_id = ?", "DELETE FROM runs WHERE id = ?"}) {
+    for (const char* sql : {"DELETE FROM events WHERE run_id = ?", "DELETE FROM checkpoints WHERE run_id = ?",
+                            "DELETE FROM runs WHERE id = ?"}) {
       Statement s(lease.db(), sql);
       s.bind(1, run_id);
       s.run();
@@ -454,11 +451,10 @@ void Store::writer_loop() {
 void Store::write_batch(std::vector<Pending>& batch) {
   sqlite3* db = writer_db_;
   exec(db, "BEGIN IMMEDIATE");
-  Statement event_insert(db, "INSERT OR IGNORE INTO events(run_id, seq, kind, payload) VALUES(?, ?, ?, ?)");
-  Statement conjunction_insert(
+  Statement event_insert(
       db,
-      "INSERT OR IGNORE INTO conjunctions(run_id, seq, id1, id2, tca_s, miss_distance_m, "
-      "kappa, kind) VALUES(?, ?, ?, ?, ?, ?, ?, ?)");
+      "INSERT OR IGNORE INTO events(run_id, seq, kind, payload, id1, id2, tca_s, miss_distance_m, "
+      "kappa, encounter_kind) VALUES(?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
   Statement checkpoint_upsert(
       db,
       "INSERT INTO checkpoints(run_id, last_seq, step, bytes) VALUES(?, ?, ?, ?) "
@@ -477,15 +473,15 @@ void Store::write_batch(std::vector<Pending>& batch) {
     payload.clear();
     e.SerializeToString(&payload);
     event_insert.bind(1, e.run_id()).bind(2, e.seq()).bind(3, kind).bind_blob(4, payload);
-    event_insert.run();
-    ++written;
     if (e.has_encounter()) {
       const v1::Encounter& c = e.encounter();
-      conjunction_insert.bind(1, e.run_id()).bind(2, e.seq()).bind(3, c.id1()).bind(4, c.id2());
-      conjunction_insert.bind(5, c.tca_s()).bind(6, c.miss_distance_m()).bind(7, c.kappa());
-      conjunction_insert.bind(8, static_cast<int>(c.kind()));
-      conjunction_insert.run();
+      event_insert.bind(5, c.id1()).bind(6, c.id2()).bind(7, c.tca_s()).bind(8, c.miss_distance_m());
+      event_insert.bind(9, c.kappa()).bind(10, static_cast<int>(c.kind()));
+    } else {
+      event_insert.bind_null(5).bind_null(6).bind_null(7).bind_null(8).bind_null(9).bind_null(10);
     }
+    event_insert.run();
+    ++written;
   }
   exec(db, "COMMIT");
   std::lock_guard lock(queue_mutex_);
@@ -540,22 +536,22 @@ Page<v1::Encounter> Store::list_conjunctions(const v1::ListConjunctionsRequest& 
       throw std::invalid_argument("page_token: not a token from a previous page");
     }
   }
-  std::string where = "c.run_id = ?1";
+  std::string where = "c.run_id = ?1 AND c.kind = 2";
   if (r.has_kappa_min()) where += " AND c.kappa >= ?2";
   if (r.has_kappa_max()) where += " AND c.kappa <= ?3";
   if (r.has_object_id()) where += " AND (c.id1 = ?4 OR c.id2 = ?4)";
   if (r.has_time_min_s()) where += " AND c.tca_s >= ?5";
   if (r.has_time_max_s()) where += " AND c.tca_s <= ?6";
   if (r.collisions_only())
-    where += " AND c.kind = 1";
+    where += " AND c.encounter_kind = 1";
   else if (!r.include_evasions())
-    where += " AND c.kind != 2";
+    where += " AND c.encounter_kind != 2";
   // The closest encounter of each pair: SQLite takes the other columns of a MIN() aggregate from the
   // row holding the minimum.
   std::string selection = r.closest_per_pair()
-                              ? "SELECT c.seq, MIN(c.miss_distance_m) FROM conjunctions c WHERE " + where +
-                                    " GROUP BY c.id1, c.id2"
-                              : "SELECT c.seq FROM conjunctions c WHERE " + where;
+                              ? "SELECT c.seq, c.payload, MIN(c.miss_distance_m) FROM events c WHERE " +
+                                    where + " GROUP BY c.id1, c.id2"
+                              : "SELECT c.seq, c.payload FROM events c WHERE " + where;
   auto bind_all = [&](Statement& s) {
     s.bind(1, r.run_id());
     if (r.has_kappa_min()) s.bind(2, r.kappa_min());
@@ -571,10 +567,7 @@ Page<v1::Encounter> Store::list_conjunctions(const v1::ListConjunctionsRequest& 
     bind_all(count);
     if (count.step()) page.total = static_cast<std::uint64_t>(count.i64(0));
   }
-  Statement s(lease.db(),
-              "SELECT e.seq, e.payload FROM (" + selection +
-                  ") AS m JOIN events e ON e.run_id = ?1 AND e.seq = m.seq ORDER BY e.seq LIMIT ?7 "
-                  "OFFSET ?8");
+  Statement s(lease.db(), "SELECT seq, payload FROM (" + selection + ") ORDER BY seq LIMIT ?7 OFFSET ?8");
   bind_all(s);
   s.bind(7, page_size + 1).bind(8, offset);
   while (s.step()) {
@@ -604,7 +597,8 @@ v1::RunStats Store::run_stats(const v1::GetRunStatsRequest& request, double run_
 
   Lease lease(*this);
   {
-    Statement counts(lease.db(), "SELECT kind, COUNT(*) FROM conjunctions WHERE run_id = ? GROUP BY kind");
+    Statement counts(lease.db(),
+                     "SELECT encounter_kind, COUNT(*) FROM events WHERE run_id = ? AND kind = 2 GROUP BY 1");
     counts.bind(1, request.run_id());
     while (counts.step()) {
       auto n = static_cast<std::uint64_t>(counts.i64(1));
@@ -629,10 +623,9 @@ v1::RunStats Store::run_stats(const v1::GetRunStatsRequest& request, double run_
     v1::KappaSeries* series = stats.add_by_kappa();
     series->set_kappa(kappa);
     std::vector<std::uint64_t> per_bin(bins, 0);
-    Statement s(
-        lease.db(),
-        "SELECT CAST(tca_s / ? AS INTEGER), COUNT(*) FROM conjunctions WHERE run_id = ? AND kind != 2 "
-        "AND kappa <= ? GROUP BY 1");
+    Statement s(lease.db(),
+                "SELECT CAST(tca_s / ? AS INTEGER), COUNT(*) FROM events WHERE run_id = ? AND kind = 2 "
+                "AND encounter_kind != 2 AND kappa <= ? GROUP BY 1");
     s.bind(1, bin).bind(2, request.run_id()).bind(3, kappa);
     while (s.step()) {
       std::int64_t b = std::clamp<std::int64_t>(s.i64(0), 0, static_cast<std::int64_t>(bins) - 1);
