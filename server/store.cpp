@@ -2,6 +2,8 @@
 
 #include <sqlite3.h>
 
+#include <time.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -77,6 +79,12 @@ constexpr int kMigrationCount = sizeof(kMigrations) / sizeof(kMigrations[0]);
 static_assert(kMigrationCount == Store::kSchemaVersion);
 
 enum EventKind : int { kKindProgress = 1, kKindEncounter = 2, kKindBurnUp = 3 };
+
+double thread_cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
 
 void check(int rc, sqlite3* db, const char* what) {
   if (rc != SQLITE_OK && rc != SQLITE_DONE && rc != SQLITE_ROW)
@@ -439,10 +447,13 @@ void Store::writer_loop() {
         queue_.pop_front();
       }
     }
+    const double cpu0 = thread_cpu_s();
     write_batch(batch);
+    const double cpu = thread_cpu_s() - cpu0;
     {
       std::lock_guard lock(queue_mutex_);
       committed_ += batch.size();
+      writer_cpu_s_ += cpu;
     }
     flushed_cv_.notify_all();
   }
@@ -486,6 +497,11 @@ void Store::write_batch(std::vector<Pending>& batch) {
   exec(db, "COMMIT");
   std::lock_guard lock(queue_mutex_);
   events_written_ += written;
+}
+
+double Store::writer_cpu_s() const {
+  std::lock_guard lock(const_cast<std::mutex&>(queue_mutex_));
+  return writer_cpu_s_;
 }
 
 std::uint64_t Store::events_written() const {

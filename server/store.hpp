@@ -88,6 +88,8 @@ class Store {
 
   // Rows written by the writer thread since the store opened (events), for the benchmark.
   std::uint64_t events_written() const;
+  // CPU seconds the writer thread spent writing (a figure of its cost that other load does not skew).
+  double writer_cpu_s() const;
 
  private:
   struct Pending;
@@ -111,6 +113,7 @@ class Store {
   std::uint64_t committed_ = 0;
   bool stopping_ = false;
   std::uint64_t events_written_ = 0;
+  double writer_cpu_s_ = 0.0;
   std::thread writer_;
 };
 

@@ -136,8 +136,9 @@ DaemonResult through_daemon(const std::string& scenario_text, int threads, int w
   return result;
 }
 
-// Events per second through the store's writer: `n` encounter events, timed to the last commit.
-double store_throughput(std::uint64_t n) {
+// Events per second through the store's writer: `n` encounter events, timed to the last commit, and
+// per CPU second of the writer thread.
+double store_throughput(std::uint64_t n, double& per_cpu_s) {
   std::string dir = temp_dir();
   double rate = 0;
   {
@@ -167,6 +168,7 @@ double store_throughput(std::uint64_t n) {
     for (auto& e : events) store.append_event(std::move(e));
     store.flush();
     rate = static_cast<double>(n) / (now_s() - t0);
+    per_cpu_s = static_cast<double>(n) / store.writer_cpu_s();
   }
   std::filesystem::remove_all(dir);
   return rate;
@@ -198,7 +200,12 @@ int bench_service(int argc, char** argv) {
               << " s with " << watchers << " watchers (" << last.watchers_complete << " saw every event), "
               << last.events << " events" << std::endl;
   }
-  for (int r = 0; r < repeats; ++r) store_rates.push_back(store_throughput(store_events));
+  std::vector<double> store_cpu_rates;
+  for (int r = 0; r < repeats; ++r) {
+    double per_cpu = 0;
+    store_rates.push_back(store_throughput(store_events, per_cpu));
+    store_cpu_rates.push_back(per_cpu);
+  }
   double local_wall = median(local_s), daemon_wall = median(daemon_s);
   JsonLine line;
   line.add("bench", std::string("service"))
@@ -210,6 +217,7 @@ int bench_service(int argc, char** argv) {
       .add("daemon_wall_s", daemon_wall)
       .add("overhead_ratio", daemon_wall / local_wall)
       .add("events_per_s_stored", median(store_rates))
+      .add("events_per_writer_cpu_s", median(store_cpu_rates))
       .add("digests_equal", static_cast<std::int64_t>(last.digest == local_digest))
       .add("repeats", static_cast<std::int64_t>(repeats));
   line.print();

@@ -98,7 +98,9 @@ LocalRun run_in_process(const std::string& path) {
   auto error = parse_scenario(test::read_text(path), scenario);
   if (error) throw std::runtime_error(error->message());
   FieldError build_error;
-  auto simulation = build_simulation(scenario, BuildOptions{}, &build_error);
+  BuildOptions options;
+  options.threads = 1;  // the daemon runs with its default threads: results must not depend on it
+  auto simulation = build_simulation(scenario, options, &build_error);
   if (!simulation) throw std::runtime_error(build_error.message());
   CollectingSink sink;
   RunControl control;
