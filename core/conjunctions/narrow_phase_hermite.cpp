@@ -71,6 +71,7 @@ double refine_root(const RelativeCubic& rel, double lo, double hi) {
   for (int iteration = 0; iteration < 100; ++iteration) {
     double f, df;
     rel.slope(x, f, df);
+    if (f == 0.0) return x;
     if (f < 0.0)
       lo = x;
     else
@@ -85,9 +86,17 @@ double refine_root(const RelativeCubic& rel, double lo, double hi) {
       x = 0.5 * (lo + hi);
     }
   }
-  // A minimum exactly at the end of the step (slope exactly zero there) stays exactly there.
-  if (hi == 1.0 && x > hi - kTolerance && rel.distance2(1.0) <= rel.distance2(x)) return 1.0;
-  return std::clamp(x, lo, hi);
+  // The closest of the last iterate and the bracket's ends (a minimum exactly at the end of the step,
+  // slope exactly zero there, stays exactly there).
+  double best = std::clamp(x, lo, hi), best_d2 = rel.distance2(best);
+  for (double candidate : {hi, lo}) {
+    const double d2 = rel.distance2(candidate);
+    if (d2 < best_d2) {
+      best = candidate;
+      best_d2 = d2;
+    }
+  }
+  return best;
 }
 
 }  // namespace
