@@ -55,7 +55,7 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
   double largest_edge = 0.0;
   const bool hermite = motion == NarrowPhase::kHermite;
   const std::int64_t count = static_cast<std::int64_t>(n);
-#pragma omp parallel for schedule(static) reduction(max : largest_edge)
+#pragma omp parallel for schedule(static) reduction(max : largest_edge) if (n >= kParallelMinimumObjects)
   for (std::int64_t ii = 0; ii < count; ++ii) {
     const std::size_t i = static_cast<std::size_t>(ii);
     const double grow = share_m[i] + kRoundingMargin_m;
@@ -93,7 +93,7 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
     ++bits;
   }
   hash_shift_ = 64 - bits;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinimumObjects)
   for (std::int64_t ii = 0; ii < count; ++ii) {
     const std::size_t i = static_cast<std::size_t>(ii);
     const std::uint64_t key = (axis_cell(lo_x_[i], inverse_cell) << (2 * kAxisBits)) |
@@ -112,7 +112,7 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
     next.assign(bucket_start_.begin(), bucket_start_.end() - 1);
     for (std::size_t i = 0; i < n; ++i) order_[next[bucket_[i]]++] = static_cast<std::uint32_t>(i);
   }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinimumObjects)
   for (std::int64_t kk = 0; kk < count; ++kk) {
     const std::size_t k = static_cast<std::size_t>(kk);
     const std::uint32_t i = order_[k];

@@ -33,6 +33,9 @@
 
 namespace kessler {
 
+// Below this many objects a step is too small to be worth waking threads for.
+inline constexpr std::size_t kParallelMinimumObjects = 1000;
+
 // Two population indices of a candidate pair.
 struct CandidatePair {
   std::uint32_t i, j;

@@ -83,7 +83,7 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
 
   grid_.build(step, settings_.narrow_phase, shares_);
 
-  const int threads = omp_get_max_threads();
+  const int threads = n >= kParallelMinimumObjects ? omp_get_max_threads() : 1;
   candidates_.resize(static_cast<std::size_t>(threads));
   events_.resize(static_cast<std::size_t>(threads));
   const std::size_t slots = grid_.slot_count();
