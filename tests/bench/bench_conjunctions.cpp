@@ -31,8 +31,8 @@ Population first_objects(const std::string& dir, std::size_t objects) {
 
 int run(int argc, char** argv) {
   Args args(argc, argv);
-  args.allow_only({"--objects", "--steps", "--threads", "--kappa", "--screen-km", "--dt", "--repeats", "--dataset",
-                   "--narrow", "--active-every"});
+  args.allow_only({"--objects", "--steps", "--threads", "--kappa", "--screen-km", "--dt", "--repeats",
+                   "--dataset", "--narrow", "--active-every"});
   const auto objects = static_cast<std::size_t>(args.get_int("--objects", 19647));
   const auto steps = args.get_int("--steps", 100);
   const int threads = static_cast<int>(args.get_int("--threads", 1));
@@ -100,10 +100,11 @@ int run(int argc, char** argv) {
     detect_walls.push_back(now_s() - start);
     grid_walls.push_back(grid);
     events = found.size();
-    std::printf("repeat %d: detection %.4f s (grid and pairs %.4f s), %.1f ns/object-step, %zu events\n", rep + 1,
-                detect_walls.back(), grid,
-                detect_walls.back() * threads * 1e9 / (static_cast<double>(objects) * static_cast<double>(steps)),
-                events);
+    std::printf(
+        "repeat %d: detection %.4f s (grid and pairs %.4f s), %.1f ns/object-step, %zu events\n", rep + 1,
+        detect_walls.back(), grid,
+        detect_walls.back() * threads * 1e9 / (static_cast<double>(objects) * static_cast<double>(steps)),
+        events);
   }
   for (const Encounter& e : found) {
     collisions += e.kind == EncounterKind::kCollision;
