@@ -39,7 +39,8 @@ inline void min_max4(double a, double b, double c, double d, double& lo, double&
 
 }  // namespace
 
-void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::vector<double>& share_m) {
+void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::vector<double>& share_m,
+                           double oversize_m) {
   const StateArrays& s0 = *step.start;
   const StateArrays& s1 = *step.end;
   const std::size_t n = s0.size();
@@ -47,6 +48,7 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
   for (auto* v : {&lo_x_, &lo_y_, &lo_z_, &hi_x_, &hi_y_, &hi_z_}) v->resize(n);
   key_.resize(n);
   bucket_.resize(n);
+  oversized_flag_.resize(n);
   order_.resize(n);
   slot_box_.resize(6 * n);
   slot_key_.resize(n);
@@ -63,7 +65,7 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
     const double v0[3] = {s0.vx[i], s0.vy[i], s0.vz[i]};
     const double p1[3] = {s1.x[i], s1.y[i], s1.z[i]};
     const double v1[3] = {s1.vx[i], s1.vy[i], s1.vz[i]};
-    double lo[3], hi[3];
+    double lo[3], hi[3], edge = 0.0;
     for (int k = 0; k < 3; ++k) {
       if (hermite) {
         min_max4(p0[k], p0[k] + dt * v0[k] / 3.0, p1[k] - dt * v1[k] / 3.0, p1[k], lo[k], hi[k]);
@@ -74,8 +76,12 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
       }
       lo[k] -= grow;
       hi[k] += grow;
-      largest_edge = std::max(largest_edge, hi[k] - lo[k]);
+      edge = std::max(edge, hi[k] - lo[k]);
     }
+    const bool oversized =
+        !(edge <= oversize_m) || !std::isfinite(lo[0] + lo[1] + lo[2] + hi[0] + hi[1] + hi[2]);
+    oversized_flag_[i] = oversized;
+    if (!oversized) largest_edge = std::max(largest_edge, edge);
     lo_x_[i] = lo[0];
     lo_y_[i] = lo[1];
     lo_z_[i] = lo[2];
@@ -103,17 +109,27 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
     bucket_[i] = static_cast<std::uint32_t>(bucket_of(key));
   }
 
-  // Counting sort by bucket (stable: population order inside a bucket).
+  // Counting sort by bucket (stable: population order inside a bucket), oversized objects left out.
+  oversized_.clear();
+  for (std::size_t i = 0; i < n; ++i)
+    if (oversized_flag_[i]) oversized_.push_back(static_cast<std::uint32_t>(i));
+  const std::size_t slots = n - oversized_.size();
+  order_.resize(slots);
+  slot_box_.resize(6 * slots);
+  slot_key_.resize(slots);
   bucket_start_.assign(buckets + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) ++bucket_start_[bucket_[i] + 1];
+  for (std::size_t i = 0; i < n; ++i)
+    if (!oversized_flag_[i]) ++bucket_start_[bucket_[i] + 1];
   for (std::size_t b = 0; b < buckets; ++b) bucket_start_[b + 1] += bucket_start_[b];
   {
     std::vector<std::uint32_t>& next = slot_cursor_;
     next.assign(bucket_start_.begin(), bucket_start_.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) order_[next[bucket_[i]]++] = static_cast<std::uint32_t>(i);
+    for (std::size_t i = 0; i < n; ++i)
+      if (!oversized_flag_[i]) order_[next[bucket_[i]]++] = static_cast<std::uint32_t>(i);
   }
+  const std::int64_t slot_count = static_cast<std::int64_t>(slots);
 #pragma omp parallel for schedule(static) if (n >= kParallelMinimumObjects)
-  for (std::int64_t kk = 0; kk < count; ++kk) {
+  for (std::int64_t kk = 0; kk < slot_count; ++kk) {
     const std::size_t k = static_cast<std::size_t>(kk);
     const std::uint32_t i = order_[k];
     double* box = &slot_box_[6 * k];
@@ -124,6 +140,21 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
     box[4] = hi_y_[i];
     box[5] = hi_z_[i];
     slot_key_[k] = key_[i];
+  }
+}
+
+void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
+                                             std::vector<CandidatePair>& out) const {
+  const std::size_t n = lo_x_.size();
+  for (std::size_t o = begin; o < end; ++o) {
+    const std::size_t i = oversized_[o];
+    for (std::size_t j = 0; j < n; ++j) {
+      // Oversized with oversized: once, from the lower index.
+      if (j == i || (oversized_flag_[j] && j < i)) continue;
+      if (lo_x_[i] <= hi_x_[j] && lo_x_[j] <= hi_x_[i] && lo_y_[i] <= hi_y_[j] && lo_y_[j] <= hi_y_[i] &&
+          lo_z_[i] <= hi_z_[j] && lo_z_[j] <= hi_z_[i])
+        out.push_back(CandidatePair{static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)});
+    }
   }
 }
 

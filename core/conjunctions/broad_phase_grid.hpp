@@ -19,6 +19,11 @@
 // most at the surface escape speed (11.19 km/s), and the Bezier hull spans at most 5/3 of v dt, so
 // L <= 5/3 * 11.19 km/s * dt + 2 max h_i.
 //
+// Objects whose grown box is larger than that bound (non-finite or unbound states: a propagation gone
+// wrong, an object falling through the Earth before its burn-up is applied) would blow the cell up and
+// make every pair a neighbour. They are kept out of the grid and tested against every object instead
+// (O(N) each), so one bad object costs O(N), not O(N^2).
+//
 // Cells are hashed (an occupied cell per object at most, in a table of a power of two >= 4 N buckets)
 // and objects are ordered by bucket with a counting sort, so memory and time stay O(N) whatever the
 // domain's size.
@@ -52,13 +57,19 @@ class BroadPhaseGrid {
   }
 
   // Builds the boxes and the grid for one step. share_m[i] is object i's share of the threshold.
+  // Boxes larger than oversize_m along an axis are kept out of the grid (see above).
   // Parallel inside (call outside any parallel region).
-  void build(const StepEnds& step, NarrowPhase motion, const std::vector<double>& share_m);
+  void build(const StepEnds& step, NarrowPhase motion, const std::vector<double>& share_m, double oversize_m);
 
   // Number of slots (objects in bucket order); pairs are enumerated per slot range so threads can split
   // the work. Appends each candidate pair (boxes overlap) whose first member is in [slot_begin, slot_end).
   std::size_t slot_count() const { return order_.size(); }
   void collect_pairs(std::size_t slot_begin, std::size_t slot_end, std::vector<CandidatePair>& out) const;
+
+  // The oversized objects: pairs of oversized object number [begin, end) with every other object
+  // (each pair once).
+  std::size_t oversized_count() const { return oversized_.size(); }
+  void collect_oversized_pairs(std::size_t begin, std::size_t end, std::vector<CandidatePair>& out) const;
 
   double cell_size_m() const { return cell_size_m_; }
 
@@ -76,6 +87,8 @@ class BroadPhaseGrid {
   std::vector<double> lo_x_, lo_y_, lo_z_, hi_x_, hi_y_, hi_z_;
   std::vector<std::uint64_t> key_;
   std::vector<std::uint32_t> bucket_;
+  std::vector<char> oversized_flag_;
+  std::vector<std::uint32_t> oversized_;     // population indices, ascending
   std::vector<std::uint32_t> bucket_start_;  // size buckets + 1
   std::vector<std::uint32_t> order_;         // slot -> population index
   std::vector<double> slot_box_;             // 6 per slot: lo x, y, z, hi x, y, z

@@ -81,7 +81,11 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
     shares_[i] =
         screening ? 0.5 * settings_.screening_distance_m : settings_.kappa_max * population.radius_m[i];
 
-  grid_.build(step, settings_.narrow_phase, shares_);
+  // No bound orbit moves a box further than the validation bound; larger boxes are oversized.
+  double largest_share = 0.0;
+  for (double share : shares_) largest_share = std::max(largest_share, share);
+  grid_.build(step, settings_.narrow_phase, shares_,
+              BroadPhaseGrid::cutoff_bound_m(step.dt_s, largest_share) + 2.0 * 1e-3);
 
   const int threads = n >= kParallelMinimumObjects ? omp_get_max_threads() : 1;
   candidates_.resize(static_cast<std::size_t>(threads));
@@ -100,6 +104,10 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
       const std::size_t begin = static_cast<std::size_t>(b * kBlock);
       grid_.collect_pairs(begin, std::min(slots, begin + static_cast<std::size_t>(kBlock)), mine);
     }
+    const std::int64_t oversized = static_cast<std::int64_t>(grid_.oversized_count());
+#pragma omp for schedule(dynamic, 1)
+    for (std::int64_t o = 0; o < oversized; ++o)
+      grid_.collect_oversized_pairs(static_cast<std::size_t>(o), static_cast<std::size_t>(o) + 1, mine);
   }
   const double t_grid = omp_get_wtime();
 

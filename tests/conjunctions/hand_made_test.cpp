@@ -221,3 +221,35 @@ TEST(HandMade, ThePapersStatusRules) {
 
 }  // namespace
 }  // namespace kessler
+
+namespace kessler {
+namespace {
+
+TEST(HandMade, AbsurdObjectsNeitherBreakNorSlowTheGrid) {
+  // The head-on pair plus an object moving at 80,000 km/s (a propagation gone wrong) and one with NaN
+  // states: the pair's encounter is still found once; the absurd objects meet nothing.
+  const double tc = 123.4, r1 = kRadius, r2 = kRadius + 60.0;
+  std::vector<KeplerState> objects = {circular(r1, X, Y, -rate(r1) * tc),
+                                      circular(r2, X, -Y, -rate(r2) * tc)};
+  const auto pop2 = testing::simple_population(objects, 5.0);
+  const auto snaps2 = testing::kepler_snapshots(objects, 10.0, 20);
+  objects.push_back(KeplerState{Eigen::Vector3d(2e8, 0, 0), Eigen::Vector3d(8e7, 0, 0)});
+  objects.push_back(KeplerState{Eigen::Vector3d(7e6, 1e3, 0), Eigen::Vector3d(0, 7.5e3, 0)});
+  const auto pop = testing::simple_population(objects, 5.0);
+  std::vector<StateArrays> snaps;
+  for (std::size_t k = 0; k < snaps2.size(); ++k) {
+    StateArrays s;
+    s.resize(4);
+    for (std::size_t i = 0; i < 2; ++i) s.set(i, snaps2[k].position(i), snaps2[k].velocity(i));
+    s.set(2, objects[2].r_m + 10.0 * k * objects[2].v_m_s, objects[2].v_m_s);
+    s.set(3, Eigen::Vector3d(NAN, 0, 0), Eigen::Vector3d(0, NAN, 0));
+    snaps.push_back(s);
+  }
+  const auto events = testing::run_detector(pop, snaps, 10.0, ConjunctionSettings{});
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_NEAR(events[0].tca_s, tc, 1e-3);
+  EXPECT_EQ(events[0].id2, 2u);
+}
+
+}  // namespace
+}  // namespace kessler
