@@ -105,9 +105,14 @@ std::optional<MeanElements> elements_from_omm_fields(const std::map<std::string,
   };
 
   MeanElements el;
-  if (const std::string* theory = get("MEAN_ELEMENT_THEORY");
-      theory && text::upper(*theory).find("SGP") == std::string::npos)
-    return fail("theory", "MEAN_ELEMENT_THEORY '" + *theory + "' is not SGP4");
+  // SGP4 mean elements only: SGP4-XP (ephemeris type 4) uses other elements and drag terms.
+  if (const std::string* theory = get("MEAN_ELEMENT_THEORY")) {
+    const std::string t = text::upper(*theory);
+    if (t.find("SGP") == std::string::npos || t.find("XP") != std::string::npos)
+      return fail("theory", "MEAN_ELEMENT_THEORY '" + *theory + "' is not SGP4");
+  }
+  if (const std::string* type = get("EPHEMERIS_TYPE"); type && text::trim(*type) != "0")
+    return fail("theory", "EPHEMERIS_TYPE " + *type + " is not SGP4 (0)");
   const std::string* id = get("NORAD_CAT_ID");
   if (!id) return fail("missing", "NORAD_CAT_ID: missing");
   auto catalog = decode_catalog_number(*id);
