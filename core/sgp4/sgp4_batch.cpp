@@ -10,21 +10,42 @@ namespace kessler {
 
 using namespace sgp4;
 
+namespace {
+
+// A sound near-Earth record whose coefficients fill the slots of deep-space objects and the padding,
+// so that vector lanes never compute with zeros (400 km circular orbit, 51.6 deg).
+const Sgp4Record& dummy_near_earth_record() {
+  static const Sgp4Record record = [] {
+    MeanElements el;
+    el.mean_motion_rad_min = 15.5 * 2.0 * kPi / 1440.0;
+    el.eccentricity = 0.001;
+    el.inclination_rad = 51.6 * kPi / 180.0;
+    el.bstar_per_earth_radius = 1e-4;
+    return sgp4_initialise(el);
+  }();
+  return record;
+}
+
+}  // namespace
+
 void Sgp4Batch::assign(const std::vector<Sgp4Record>& records) {
   records_ = records;
   const std::size_t n = records.size();
+  const std::size_t padded = n + kLanes;
   near_.assign(n, 0);
   near_count_ = 0;
   for (auto* v : {&mo_,   &mdot_,  &argpo_,  &argpdot_, &nodeo_,  &nodedot_, &nodecf_, &cc1_,
                   &bcc4_, &t2cof_, &omgcof_, &eta_,     &xmcof_,  &delmo_,   &d2_,     &d3_,
                   &d4_,   &bcc5_,  &sinmao_, &t3cof_,   &t4cof_,  &t5cof_,   &ecco_,   &no_,
                   &a0_,   &aycof_, &xlcof_,  &con41_,   &x1mth2_, &x7thm1_,  &cosio_,  &sinio_})
-    v->assign(n, 0.0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Sgp4Record& r = records[i];
-    if (r.deep_space || r.init_error != Sgp4Error::kNone) continue;
-    near_[i] = 1;
-    ++near_count_;
+    v->assign(padded, 0.0);
+  for (std::size_t i = 0; i < padded; ++i) {
+    const bool near = i < n && !records[i].deep_space && records[i].init_error == Sgp4Error::kNone;
+    const Sgp4Record& r = near ? records[i] : dummy_near_earth_record();
+    if (near) {
+      near_[i] = 1;
+      ++near_count_;
+    }
     mo_[i] = r.mo;
     mdot_[i] = r.mdot;
     argpo_[i] = r.argpo;
@@ -67,17 +88,15 @@ void Sgp4Batch::propagate_block(std::size_t first, std::size_t count, const doub
   constexpr std::size_t L = kLanes;
   // Lanes beyond `count` repeat the block's first object, so every lane computes sound numbers.
   alignas(64) double t[L], u[L], axnl[L], aynl[L], am[L], nm[L], nodep[L], eo1[L], sineo1[L], coseo1[L];
-  alignas(64) int err[L];
-  alignas(64) std::size_t idx[L];
-  for (std::size_t l = 0; l < L; ++l) {
-    idx[l] = first + (l < count ? l : 0);
-    t[l] = minutes[idx[l]];
-  }
+  alignas(64) int err_ecc[L], err_pl[L], err_decay[L];
+  // Coefficient arrays are padded, so lanes past `count` read harmless dummy coefficients; their
+  // times repeat the block's first object.
+  for (std::size_t l = 0; l < L; ++l) t[l] = minutes[first + (l < count ? l : 0)];
 
-  // Secular gravity and drag, long-period periodics.
+    // Secular gravity and drag, long-period periodics.
 #pragma omp simd
   for (std::size_t l = 0; l < L; ++l) {
-    const std::size_t i = idx[l];
+    const std::size_t i = first + l;
     const double tl = t[l];
     const double xmdf = mo_[i] + mdot_[i] * tl;
     const double argpdf = argpo_[i] + argpdot_[i] * tl;
@@ -104,7 +123,7 @@ void Sgp4Batch::propagate_block(std::size_t first, std::size_t count, const doub
     nm[l] = kXke / (a * std::sqrt(a));
     am[l] = a;
     double em = ecco_[i] - tempe;
-    err[l] = (em >= 1.0 || em < -0.001) ? 1 : 0;
+    err_ecc[l] = (em >= 1.0) | (em < -0.001);
     em = em < 1.0e-6 ? 1.0e-6 : em;
     mm = mm + no_[i] * templ;
     double xlm = mm + argpm + nodem;
@@ -151,13 +170,13 @@ void Sgp4Batch::propagate_block(std::size_t first, std::size_t count, const doub
   const double ps = out.position_scale, vs = out.velocity_scale;
 #pragma omp simd
   for (std::size_t l = 0; l < L; ++l) {
-    const std::size_t i = idx[l];
+    const std::size_t i = first + l;
     const double a = am[l];
     const double ecose = axnl[l] * coseo1[l] + aynl[l] * sineo1[l];
     const double esine = axnl[l] * sineo1[l] - aynl[l] * coseo1[l];
     const double el2 = axnl[l] * axnl[l] + aynl[l] * aynl[l];
     const double pl = a * (1.0 - el2);
-    err[l] = err[l] ? err[l] : (pl < 0.0 ? 4 : 0);
+    err_pl[l] = pl < 0.0;
     const double pl_safe = pl < 0.0 ? 1.0 : pl;
     const double rl = a * (1.0 - ecose);
     const double rdotl = std::sqrt(a) * esine / rl;
@@ -201,7 +220,7 @@ void Sgp4Batch::propagate_block(std::size_t first, std::size_t count, const doub
     const double vz = sini * cossu;
     const double mr = mrt * kEarthRadius_km * ps;
     const double vk = vkmpersec * vs;
-    err[l] = err[l] ? err[l] : (mrt < 1.0 ? 6 : 0);
+    err_decay[l] = mrt < 1.0;
     t[l] = mr * ux;
     u[l] = mr * uy;
     axnl[l] = mr * uz;
@@ -211,7 +230,10 @@ void Sgp4Batch::propagate_block(std::size_t first, std::size_t count, const doub
   }
   for (std::size_t l = 0; l < count; ++l) {
     const std::size_t i = first + l;
-    const Sgp4Error e = static_cast<Sgp4Error>(err[l]);
+    const Sgp4Error e = err_ecc[l]     ? Sgp4Error::kMeanEccentricity
+                        : err_pl[l]    ? Sgp4Error::kSemiLatusRectum
+                        : err_decay[l] ? Sgp4Error::kDecayed
+                                       : Sgp4Error::kNone;
     if (out.error) out.error[i] = e;
     if (e != Sgp4Error::kNone && e != Sgp4Error::kDecayed) {
       out.x[i] = out.y[i] = out.z[i] = out.vx[i] = out.vy[i] = out.vz[i] = 0.0;

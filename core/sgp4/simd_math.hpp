@@ -43,9 +43,10 @@ inline double simd_fmod_two_pi(double x) {
   constexpr double kTwoPi = 6.28318530717958647692;
   constexpr double kRound = 6755399441055744.0;
   const double ratio = x / kTwoPi;
-  double k = (ratio + kRound) - kRound;           // nearest integer
-  k = (k > ratio && ratio >= 0.0) ? k - 1.0 : k;  // towards zero for x >= 0
-  k = (k < ratio && ratio < 0.0) ? k + 1.0 : k;   // towards zero for x < 0
+  double k = (ratio + kRound) - kRound;  // nearest integer
+  // Towards zero, as fmod: bitwise & keeps the selects branch-free.
+  k = ((k > ratio) & (ratio >= 0.0)) ? k - 1.0 : k;
+  k = ((k < ratio) & (ratio < 0.0)) ? k + 1.0 : k;
   return x - k * kTwoPi;
 }
 
