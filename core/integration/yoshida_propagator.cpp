@@ -84,9 +84,12 @@ void YoshidaPropagator::step(Population& population, double t_start_s, double dt
     throw std::invalid_argument("YoshidaPropagator: population arrays differ in length");
   if (n == 0) return;
   // Sub-step times: after drift c1, after drifts c1 + c2 (= dt/2), after c1 + 2 c2 (= dt - c1).
-  const ForceInstant f1 = model_.instant(t_start_s + kC1 * dt_s);
-  const ForceInstant f2 = model_.instant(t_start_s + 0.5 * dt_s);
-  const ForceInstant f3 = model_.instant(t_start_s + (kC1 + 2.0 * kC2) * dt_s);
+  ForceInstant f1 = model_.instant(t_start_s + kC1 * dt_s);
+  ForceInstant f2 = model_.instant(t_start_s + 0.5 * dt_s);
+  ForceInstant f3 = model_.instant(t_start_s + (kC1 + 2.0 * kC2) * dt_s);
+  // No kick may change v_rel by more than a quarter through drag (drag.hpp): inactive above ~100 km.
+  const double drag_limit = kDragRateLimitPerKick / (std::abs(kW0) * dt_s);
+  f1.drag_rate_limit_per_s = f2.drag_rate_limit_per_s = f3.drag_rate_limit_per_s = drag_limit;
   StepArrays arrays{st.x.data(),
                     st.y.data(),
                     st.z.data(),
