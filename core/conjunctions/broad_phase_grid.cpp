@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <omp.h>
+
 namespace kessler {
 namespace {
 
@@ -10,6 +12,9 @@ constexpr int kAxisBits = 21;
 constexpr std::int64_t kAxisOffset = std::int64_t{1} << (kAxisBits - 1);
 constexpr double kAxisLimit = static_cast<double>(kAxisOffset - 2);  // keeps neighbours in range
 constexpr double kRoundingMargin_m = 1e-3;
+// The counting sort's coarse partitions (top bits of the bucket).
+constexpr int kCoarseBits = 8;
+constexpr std::size_t kCoarsePartitions = std::size_t{1} << kCoarseBits;
 
 // Cell index along one axis, clamped (clamping keeps neighbours neighbours; NaN goes to the edge).
 inline std::uint64_t axis_cell(double coordinate_m, double inverse_cell_m) {
@@ -92,54 +97,117 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
   cell_size_m_ = std::max(largest_edge, 1.0) * (1.0 + 1e-9);
   const double inverse_cell = 1.0 / cell_size_m_;
 
-  std::size_t buckets = 64;
-  int bits = 6;
-  while (buckets < 4 * n) {
+  // At least 2 buckets per object (load <= 1/2; the occupancy bitmap makes empty buckets cheap) and
+  // at least 64 per coarse partition of the sort.
+  std::size_t buckets = kCoarsePartitions * 64;
+  int bits = kCoarseBits + 6;
+  while (buckets < 2 * n) {
     buckets *= 2;
     ++bits;
   }
   hash_shift_ = 64 - bits;
-#pragma omp parallel for schedule(static) if (n >= kParallelMinimumObjects)
-  for (std::int64_t ii = 0; ii < count; ++ii) {
-    const std::size_t i = static_cast<std::size_t>(ii);
-    const std::uint64_t key = (axis_cell(lo_x_[i], inverse_cell) << (2 * kAxisBits)) |
-                              (axis_cell(lo_y_[i], inverse_cell) << kAxisBits) |
-                              axis_cell(lo_z_[i], inverse_cell);
-    key_[i] = key;
-    bucket_[i] = static_cast<std::uint32_t>(bucket_of(key));
-  }
+  const int fine_bits = bits - kCoarseBits;
+  const std::size_t fine_buckets = std::size_t{1} << fine_bits;
+  bucket_start_.resize(buckets + 1);
+  occupied_.resize(buckets / 64);
 
-  // Counting sort by bucket (stable: population order inside a bucket), oversized objects left out.
-  oversized_.clear();
-  for (std::size_t i = 0; i < n; ++i)
-    if (oversized_flag_[i]) oversized_.push_back(static_cast<std::uint32_t>(i));
-  const std::size_t slots = n - oversized_.size();
-  order_.resize(slots);
-  slot_box_.resize(6 * slots);
-  slot_key_.resize(slots);
-  bucket_start_.assign(buckets + 1, 0);
-  for (std::size_t i = 0; i < n; ++i)
-    if (!oversized_flag_[i]) ++bucket_start_[bucket_[i] + 1];
-  for (std::size_t b = 0; b < buckets; ++b) bucket_start_[b + 1] += bucket_start_[b];
+  // Counting sort by bucket, in parallel and stable (population order inside a bucket, whatever the
+  // thread count), oversized objects left out: each thread counts its contiguous chunk of objects per
+  // coarse partition (the bucket's top bits); partitions are laid out in order, chunks in order inside
+  // them; then each partition is sorted by its fine buckets on its own.
+#pragma omp parallel if (n >= kParallelMinimumObjects)
   {
-    std::vector<std::uint32_t>& next = slot_cursor_;
-    next.assign(bucket_start_.begin(), bucket_start_.end() - 1);
-    for (std::size_t i = 0; i < n; ++i)
-      if (!oversized_flag_[i]) order_[next[bucket_[i]]++] = static_cast<std::uint32_t>(i);
-  }
-  const std::int64_t slot_count = static_cast<std::int64_t>(slots);
-#pragma omp parallel for schedule(static) if (n >= kParallelMinimumObjects)
-  for (std::int64_t kk = 0; kk < slot_count; ++kk) {
-    const std::size_t k = static_cast<std::size_t>(kk);
-    const std::uint32_t i = order_[k];
-    double* box = &slot_box_[6 * k];
-    box[0] = lo_x_[i];
-    box[1] = lo_y_[i];
-    box[2] = lo_z_[i];
-    box[3] = hi_x_[i];
-    box[4] = hi_y_[i];
-    box[5] = hi_z_[i];
-    slot_key_[k] = key_[i];
+    const std::size_t threads = static_cast<std::size_t>(omp_get_num_threads());
+    const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
+#pragma omp single
+    {
+      coarse_count_.assign(threads * kCoarsePartitions, 0);
+      thread_oversized_.resize(threads);
+    }
+    const std::size_t begin = n * t / threads, end = n * (t + 1) / threads;
+    std::uint32_t* mine = &coarse_count_[t * kCoarsePartitions];
+    std::vector<std::uint32_t>& my_oversized = thread_oversized_[t];
+    my_oversized.clear();
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::uint64_t key = (axis_cell(lo_x_[i], inverse_cell) << (2 * kAxisBits)) |
+                                (axis_cell(lo_y_[i], inverse_cell) << kAxisBits) |
+                                axis_cell(lo_z_[i], inverse_cell);
+      key_[i] = key;
+      const std::uint32_t b = static_cast<std::uint32_t>(bucket_of(key));
+      bucket_[i] = b;
+      if (oversized_flag_[i])
+        my_oversized.push_back(static_cast<std::uint32_t>(i));
+      else
+        ++mine[b >> fine_bits];
+    }
+#pragma omp barrier
+#pragma omp single
+    {
+      oversized_.clear();
+      for (const auto& list : thread_oversized_)
+        oversized_.insert(oversized_.end(), list.begin(), list.end());
+      const std::size_t slots = n - oversized_.size();
+      order_.resize(slots);
+      scratch_.resize(slots);
+      slot_box_.resize(6 * slots);
+      slot_key_.resize(slots);
+      partition_start_.resize(kCoarsePartitions + 1);
+      std::uint32_t running = 0;
+      for (std::size_t p = 0; p < kCoarsePartitions; ++p) {
+        partition_start_[p] = running;
+        for (std::size_t u = 0; u < threads; ++u) {
+          const std::uint32_t c = coarse_count_[u * kCoarsePartitions + p];
+          coarse_count_[u * kCoarsePartitions + p] = running;  // becomes the write cursor
+          running += c;
+        }
+      }
+      partition_start_[kCoarsePartitions] = running;
+      bucket_start_[buckets] = running;
+    }
+    for (std::size_t i = begin; i < end; ++i)
+      if (!oversized_flag_[i]) scratch_[mine[bucket_[i] >> fine_bits]++] = static_cast<std::uint32_t>(i);
+#pragma omp barrier
+#pragma omp for schedule(dynamic, 4)
+    for (std::int64_t pp = 0; pp < static_cast<std::int64_t>(kCoarsePartitions); ++pp) {
+      const std::size_t p = static_cast<std::size_t>(pp);
+      const std::size_t first_bucket = p * fine_buckets;
+      std::uint32_t* starts = &bucket_start_[first_bucket];
+      std::fill(starts, starts + fine_buckets, 0u);
+      std::fill(&occupied_[first_bucket / 64], &occupied_[first_bucket / 64] + fine_buckets / 64, 0ull);
+      const std::uint32_t lo = partition_start_[p], hi = partition_start_[p + 1];
+      for (std::uint32_t m = lo; m < hi; ++m) {
+        const std::uint32_t b = bucket_[scratch_[m]];
+        ++starts[b - first_bucket];
+        occupied_[b >> 6] |= std::uint64_t{1} << (b & 63);
+      }
+      std::uint32_t running = lo;
+      for (std::size_t f = 0; f < fine_buckets; ++f) {
+        const std::uint32_t c = starts[f];
+        starts[f] = running;
+        running += c;
+      }
+      // Scatter with the starts as cursors, then shift them back.
+      for (std::uint32_t m = lo; m < hi; ++m) {
+        const std::uint32_t i = scratch_[m];
+        order_[starts[bucket_[i] - first_bucket]++] = i;
+      }
+      for (std::size_t f = fine_buckets; f-- > 1;) starts[f] = starts[f - 1];
+      starts[0] = lo;
+    }
+    const std::int64_t slot_count = static_cast<std::int64_t>(order_.size());
+#pragma omp for schedule(static)
+    for (std::int64_t kk = 0; kk < slot_count; ++kk) {
+      const std::size_t k = static_cast<std::size_t>(kk);
+      const std::uint32_t i = order_[k];
+      double* box = &slot_box_[6 * k];
+      box[0] = lo_x_[i];
+      box[1] = lo_y_[i];
+      box[2] = lo_z_[i];
+      box[3] = hi_x_[i];
+      box[4] = hi_y_[i];
+      box[5] = hi_z_[i];
+      slot_key_[k] = key_[i];
+    }
   }
 }
 
@@ -161,6 +229,9 @@ void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
 void BroadPhaseGrid::pair_with_cell(std::size_t k, std::uint64_t key, bool same_cell,
                                     std::vector<CandidatePair>& out) const {
   const std::size_t b = bucket_of(key);
+  // Most neighbour cells are empty: the occupancy bitmap (a few kB, in L1) answers without touching
+  // the bucket table.
+  if (!same_cell && !((occupied_[b >> 6] >> (b & 63)) & 1u)) return;
   std::size_t first = bucket_start_[b];
   const std::size_t last = bucket_start_[b + 1];
   if (same_cell) first = k + 1;
