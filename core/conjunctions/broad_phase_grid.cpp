@@ -97,11 +97,12 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
   cell_size_m_ = std::max(largest_edge, 1.0) * (1.0 + 1e-9);
   const double inverse_cell = 1.0 / cell_size_m_;
 
-  // At least 2 buckets per object (load <= 1/2; the occupancy bitmap makes empty buckets cheap) and
+  // At least 4 buckets per object (load <= 1/4: few hash collisions; the occupancy bitmap makes empty
+  // buckets cheap) and
   // at least 64 per coarse partition of the sort.
   std::size_t buckets = kCoarsePartitions * 64;
   int bits = kCoarseBits + 6;
-  while (buckets < 2 * n) {
+  while (buckets < 4 * n) {
     buckets *= 2;
     ++bits;
   }

@@ -24,7 +24,7 @@
 // make every pair a neighbour. They are kept out of the grid and tested against every object instead
 // (O(N) each), so one bad object costs O(N), not O(N^2).
 //
-// Cells are hashed (an occupied cell per object at most, in a table of a power of two >= 2 N buckets)
+// Cells are hashed (an occupied cell per object at most, in a table of a power of two >= 4 N buckets)
 // and objects are ordered by bucket with a counting sort, so memory and time stay O(N) whatever the
 // domain's size.
 #pragma once
