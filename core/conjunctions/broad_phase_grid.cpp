@@ -98,8 +98,7 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
   const double inverse_cell = 1.0 / cell_size_m_;
 
   // At least 4 buckets per object (load <= 1/4: few hash collisions; the occupancy bitmap makes empty
-  // buckets cheap) and
-  // at least 64 per coarse partition of the sort.
+  // buckets cheap) and at least 64 per coarse partition of the sort.
   std::size_t buckets = kCoarsePartitions * 64;
   int bits = kCoarseBits + 6;
   while (buckets < 4 * n) {
