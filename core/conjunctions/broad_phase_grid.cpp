@@ -55,47 +55,9 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
   bucket_.resize(n);
   oversized_flag_.resize(n);
   order_.resize(n);
+  scratch_.resize(n);
   slot_box_.resize(6 * n);
   slot_key_.resize(n);
-
-  // Grown boxes and the largest edge.
-  double largest_edge = 0.0;
-  const bool hermite = motion == NarrowPhase::kHermite;
-  const std::int64_t count = static_cast<std::int64_t>(n);
-#pragma omp parallel for schedule(static) reduction(max : largest_edge) if (n >= kParallelMinimumObjects)
-  for (std::int64_t ii = 0; ii < count; ++ii) {
-    const std::size_t i = static_cast<std::size_t>(ii);
-    const double grow = share_m[i] + kRoundingMargin_m;
-    const double p0[3] = {s0.x[i], s0.y[i], s0.z[i]};
-    const double v0[3] = {s0.vx[i], s0.vy[i], s0.vz[i]};
-    const double p1[3] = {s1.x[i], s1.y[i], s1.z[i]};
-    const double v1[3] = {s1.vx[i], s1.vy[i], s1.vz[i]};
-    double lo[3], hi[3], edge = 0.0;
-    for (int k = 0; k < 3; ++k) {
-      if (hermite) {
-        min_max4(p0[k], p0[k] + dt * v0[k] / 3.0, p1[k] - dt * v1[k] / 3.0, p1[k], lo[k], hi[k]);
-      } else {
-        const double e = p0[k] + dt * v0[k];
-        lo[k] = std::min(p0[k], e);
-        hi[k] = std::max(p0[k], e);
-      }
-      lo[k] -= grow;
-      hi[k] += grow;
-      edge = std::max(edge, hi[k] - lo[k]);
-    }
-    const bool oversized =
-        !(edge <= oversize_m) || !std::isfinite(lo[0] + lo[1] + lo[2] + hi[0] + hi[1] + hi[2]);
-    oversized_flag_[i] = oversized;
-    if (!oversized) largest_edge = std::max(largest_edge, edge);
-    lo_x_[i] = lo[0];
-    lo_y_[i] = lo[1];
-    lo_z_[i] = lo[2];
-    hi_x_[i] = hi[0];
-    hi_y_[i] = hi[1];
-    hi_z_[i] = hi[2];
-  }
-  cell_size_m_ = std::max(largest_edge, 1.0) * (1.0 + 1e-9);
-  const double inverse_cell = 1.0 / cell_size_m_;
 
   // At least 4 buckets per object (load <= 1/4: few hash collisions; the occupancy bitmap makes empty
   // buckets cheap) and at least 64 per coarse partition of the sort.
@@ -110,22 +72,63 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
   const std::size_t fine_buckets = std::size_t{1} << fine_bits;
   bucket_start_.resize(buckets + 1);
   occupied_.resize(buckets / 64);
+  const std::size_t max_threads = static_cast<std::size_t>(omp_get_max_threads());
+  coarse_count_.resize(max_threads * kCoarsePartitions);
+  thread_oversized_.resize(max_threads);
+  partition_start_.resize(kCoarsePartitions + 1);
 
-  // Counting sort by bucket, in parallel and stable (population order inside a bucket, whatever the
-  // thread count), oversized objects left out: each thread counts its contiguous chunk of objects per
-  // coarse partition (the bucket's top bits); partitions are laid out in order, chunks in order inside
-  // them; then each partition is sorted by its fine buckets on its own.
+  const bool hermite = motion == NarrowPhase::kHermite;
+  const std::int64_t count = static_cast<std::int64_t>(n);
+  double largest_edge = 0.0;
+  // One parallel region, five barriers: boxes; cell keys and coarse counts; layout; scatter into
+  // coarse partitions; sort of each partition by fine bucket.
 #pragma omp parallel if (n >= kParallelMinimumObjects)
   {
+    // Grown boxes and the largest edge (max is exact: the same for any thread count).
+#pragma omp for schedule(static) reduction(max : largest_edge)
+    for (std::int64_t ii = 0; ii < count; ++ii) {
+      const std::size_t i = static_cast<std::size_t>(ii);
+      const double grow = share_m[i] + kRoundingMargin_m;
+      const double p0[3] = {s0.x[i], s0.y[i], s0.z[i]};
+      const double v0[3] = {s0.vx[i], s0.vy[i], s0.vz[i]};
+      const double p1[3] = {s1.x[i], s1.y[i], s1.z[i]};
+      const double v1[3] = {s1.vx[i], s1.vy[i], s1.vz[i]};
+      double lo[3], hi[3], edge = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        if (hermite) {
+          min_max4(p0[k], p0[k] + dt * v0[k] / 3.0, p1[k] - dt * v1[k] / 3.0, p1[k], lo[k], hi[k]);
+        } else {
+          const double e = p0[k] + dt * v0[k];
+          lo[k] = std::min(p0[k], e);
+          hi[k] = std::max(p0[k], e);
+        }
+        lo[k] -= grow;
+        hi[k] += grow;
+        edge = std::max(edge, hi[k] - lo[k]);
+      }
+      const bool oversized =
+          !(edge <= oversize_m) || !std::isfinite(lo[0] + lo[1] + lo[2] + hi[0] + hi[1] + hi[2]);
+      oversized_flag_[i] = oversized;
+      if (!oversized) largest_edge = std::max(largest_edge, edge);
+      lo_x_[i] = lo[0];
+      lo_y_[i] = lo[1];
+      lo_z_[i] = lo[2];
+      hi_x_[i] = hi[0];
+      hi_y_[i] = hi[1];
+      hi_z_[i] = hi[2];
+    }
+    const double cell = std::max(largest_edge, 1.0) * (1.0 + 1e-9);
+    const double inverse_cell = 1.0 / cell;
+
+    // Counting sort by bucket, stable (population order inside a bucket, whatever the thread count),
+    // oversized objects left out: each thread counts its contiguous chunk of objects per coarse
+    // partition (the bucket's top bits); partitions are laid out in order, chunks in order inside them;
+    // then each partition is sorted by its fine buckets on its own.
     const std::size_t threads = static_cast<std::size_t>(omp_get_num_threads());
     const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
-#pragma omp single
-    {
-      coarse_count_.assign(threads * kCoarsePartitions, 0);
-      thread_oversized_.resize(threads);
-    }
     const std::size_t begin = n * t / threads, end = n * (t + 1) / threads;
     std::uint32_t* mine = &coarse_count_[t * kCoarsePartitions];
+    std::fill(mine, mine + kCoarsePartitions, 0u);
     std::vector<std::uint32_t>& my_oversized = thread_oversized_[t];
     my_oversized.clear();
     for (std::size_t i = begin; i < end; ++i) {
@@ -143,15 +146,10 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
 #pragma omp barrier
 #pragma omp single
     {
+      cell_size_m_ = cell;
       oversized_.clear();
-      for (const auto& list : thread_oversized_)
-        oversized_.insert(oversized_.end(), list.begin(), list.end());
-      const std::size_t slots = n - oversized_.size();
-      order_.resize(slots);
-      scratch_.resize(slots);
-      slot_box_.resize(6 * slots);
-      slot_key_.resize(slots);
-      partition_start_.resize(kCoarsePartitions + 1);
+      for (std::size_t u = 0; u < threads; ++u)
+        oversized_.insert(oversized_.end(), thread_oversized_[u].begin(), thread_oversized_[u].end());
       std::uint32_t running = 0;
       for (std::size_t p = 0; p < kCoarsePartitions; ++p) {
         partition_start_[p] = running;
@@ -193,22 +191,22 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
       }
       for (std::size_t f = fine_buckets; f-- > 1;) starts[f] = starts[f - 1];
       starts[0] = lo;
-    }
-    const std::int64_t slot_count = static_cast<std::int64_t>(order_.size());
-#pragma omp for schedule(static)
-    for (std::int64_t kk = 0; kk < slot_count; ++kk) {
-      const std::size_t k = static_cast<std::size_t>(kk);
-      const std::uint32_t i = order_[k];
-      double* box = &slot_box_[6 * k];
-      box[0] = lo_x_[i];
-      box[1] = lo_y_[i];
-      box[2] = lo_z_[i];
-      box[3] = hi_x_[i];
-      box[4] = hi_y_[i];
-      box[5] = hi_z_[i];
-      slot_key_[k] = key_[i];
+      // The partition's slots: boxes and keys in slot order for the pair search.
+      for (std::uint32_t k = lo; k < hi; ++k) {
+        const std::uint32_t i = order_[k];
+        double* box = &slot_box_[6 * std::size_t{k}];
+        box[0] = lo_x_[i];
+        box[1] = lo_y_[i];
+        box[2] = lo_z_[i];
+        box[3] = hi_x_[i];
+        box[4] = hi_y_[i];
+        box[5] = hi_z_[i];
+        slot_key_[k] = key_[i];
+      }
     }
   }
+  const std::size_t slots = n - oversized_.size();
+  order_.resize(slots);
 }
 
 void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
