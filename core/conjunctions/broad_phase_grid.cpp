@@ -12,9 +12,8 @@ constexpr int kAxisBits = 21;
 constexpr std::int64_t kAxisOffset = std::int64_t{1} << (kAxisBits - 1);
 constexpr double kAxisLimit = static_cast<double>(kAxisOffset - 2);  // keeps neighbours in range
 constexpr double kRoundingMargin_m = 1e-3;
-// The counting sort's coarse partitions (top bits of the bucket).
-constexpr int kCoarseBits = 8;
-constexpr std::size_t kCoarsePartitions = std::size_t{1} << kCoarseBits;
+// The counting sort's coarse partitions (top bits of the bucket): at most 2^8.
+constexpr int kMaxCoarseBits = 8;
 
 // Cell index along one axis, clamped (clamping keeps neighbours neighbours; NaN goes to the edge).
 inline std::uint64_t axis_cell(double coordinate_m, double inverse_cell_m) {
@@ -60,22 +59,24 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
   slot_key_.resize(n);
 
   // At least 4 buckets per object (load <= 1/4: few hash collisions; the occupancy bitmap makes empty
-  // buckets cheap) and at least 64 per coarse partition of the sort.
-  std::size_t buckets = kCoarsePartitions * 64;
-  int bits = kCoarseBits + 6;
+  // buckets cheap); up to 256 coarse partitions for the sort, each of at least 64 buckets.
+  std::size_t buckets = 64;
+  int bits = 6;
   while (buckets < 4 * n) {
     buckets *= 2;
     ++bits;
   }
   hash_shift_ = 64 - bits;
-  const int fine_bits = bits - kCoarseBits;
+  const int coarse_bits = std::min(kMaxCoarseBits, bits - 6);
+  const std::size_t partitions = std::size_t{1} << coarse_bits;
+  const int fine_bits = bits - coarse_bits;
   const std::size_t fine_buckets = std::size_t{1} << fine_bits;
   bucket_start_.resize(buckets + 1);
   occupied_.resize(buckets / 64);
   const std::size_t max_threads = static_cast<std::size_t>(omp_get_max_threads());
-  coarse_count_.resize(max_threads * kCoarsePartitions);
+  coarse_count_.resize(max_threads * partitions);
   thread_oversized_.resize(max_threads);
-  partition_start_.resize(kCoarsePartitions + 1);
+  partition_start_.resize(partitions + 1);
 
   const bool hermite = motion == NarrowPhase::kHermite;
   const std::int64_t count = static_cast<std::int64_t>(n);
@@ -127,8 +128,8 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
     const std::size_t threads = static_cast<std::size_t>(omp_get_num_threads());
     const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
     const std::size_t begin = n * t / threads, end = n * (t + 1) / threads;
-    std::uint32_t* mine = &coarse_count_[t * kCoarsePartitions];
-    std::fill(mine, mine + kCoarsePartitions, 0u);
+    std::uint32_t* mine = &coarse_count_[t * partitions];
+    std::fill(mine, mine + partitions, 0u);
     std::vector<std::uint32_t>& my_oversized = thread_oversized_[t];
     my_oversized.clear();
     for (std::size_t i = begin; i < end; ++i) {
@@ -151,22 +152,22 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
       for (std::size_t u = 0; u < threads; ++u)
         oversized_.insert(oversized_.end(), thread_oversized_[u].begin(), thread_oversized_[u].end());
       std::uint32_t running = 0;
-      for (std::size_t p = 0; p < kCoarsePartitions; ++p) {
+      for (std::size_t p = 0; p < partitions; ++p) {
         partition_start_[p] = running;
         for (std::size_t u = 0; u < threads; ++u) {
-          const std::uint32_t c = coarse_count_[u * kCoarsePartitions + p];
-          coarse_count_[u * kCoarsePartitions + p] = running;  // becomes the write cursor
+          const std::uint32_t c = coarse_count_[u * partitions + p];
+          coarse_count_[u * partitions + p] = running;  // becomes the write cursor
           running += c;
         }
       }
-      partition_start_[kCoarsePartitions] = running;
+      partition_start_[partitions] = running;
       bucket_start_[buckets] = running;
     }
     for (std::size_t i = begin; i < end; ++i)
       if (!oversized_flag_[i]) scratch_[mine[bucket_[i] >> fine_bits]++] = static_cast<std::uint32_t>(i);
 #pragma omp barrier
 #pragma omp for schedule(dynamic, 4)
-    for (std::int64_t pp = 0; pp < static_cast<std::int64_t>(kCoarsePartitions); ++pp) {
+    for (std::int64_t pp = 0; pp < static_cast<std::int64_t>(partitions); ++pp) {
       const std::size_t p = static_cast<std::size_t>(pp);
       const std::size_t first_bucket = p * fine_buckets;
       std::uint32_t* starts = &bucket_start_[first_bucket];
