@@ -35,12 +35,12 @@ struct StateArrays {
 struct ObjectRecord {
   ObjectId id = 0;
   std::string name;
-  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();    // TEME of epoch
-  Eigen::Vector3d velocity_m_s = Eigen::Vector3d::Zero();  // TEME of epoch
-  double radius_m = 0.0;                                   // collision radius (sphere)
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();     // TEME of epoch
+  Eigen::Vector3d velocity_m_s = Eigen::Vector3d::Zero();   // TEME of epoch
+  double radius_m = 0.0;                   // collision radius (sphere)
   double mass_kg = 0.0;
-  double drag_area_to_mass_m2_kg = 0.0;  // Cd * A / m (ballistic coefficient's inverse)
-  double srp_area_to_mass_m2_kg = 0.0;   // A / m facing the Sun (reflectivity 1)
+  double drag_area_to_mass_m2_kg = 0.0;    // Cd * A / m (ballistic coefficient's inverse)
+  double srp_area_to_mass_m2_kg = 0.0;     // A / m facing the Sun (reflectivity 1)
   ObjectStatus status = ObjectStatus::kPassive;
 };
 
