@@ -43,7 +43,7 @@ seed: 42
     {"no population", "name: x",
      "population: a population source is required (dataset, catalog, synthetic or state_table)"},
     {"malformed", "population: {dataset: leo-19647}\n  seed: 2\n",
-     "not valid YAML or JSON: line 2, column 7: illegal map value"},
+     "not valid YAML or JSON: line 2, column 3: end of map not found"},
     {"not a mapping", "- a\n- b", "expected a mapping of keys, got a list"},
     {"unknown key", "populaton: {dataset: leo-19647}",
      "populaton: unknown key (known keys here: name, start_epoch, duration_days, end_epoch, dt_s, "
