@@ -35,6 +35,9 @@ struct SimulationParts {
   BurnUpFinder find_burn_ups;                 // null: no burn-up
 };
 
+// ConjunctionDetector behind the scanner interface.
+std::unique_ptr<EncounterScanner> make_detector_scanner(const ConjunctionSettings& settings);
+
 // The project's parts for `config`: `propagator`, ConjunctionDetector (when config.conjunctions_enabled)
 // and find_burn_ups.
 SimulationParts default_parts(const SimulationConfig& config, std::unique_ptr<Propagator> propagator);
