@@ -212,6 +212,7 @@ int run_main(int argc, char** argv) {
     }
   }
 
+  options.checkpoints = !checkpoint_dir.empty();
   FieldError error;
   std::unique_ptr<Simulation> sim;
   if (!resume_path.empty()) {

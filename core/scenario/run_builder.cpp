@@ -63,7 +63,9 @@ std::optional<FieldError> make_parts(const v1::Scenario& scenario, const Simulat
   (void)parts;
   if (scenario.propagator() == v1::PROPAGATOR_SGP4) return not_built("propagator", "the sgp4 propagator");
 #ifdef KESSLER_HAVE_NUMERICAL
-  parts.propagator = std::make_unique<YoshidaPropagator>(config.force_model, config.start_epoch);
+  auto propagator = std::make_unique<YoshidaPropagator>(config.force_model, config.start_epoch);
+  propagator->set_threads(config.threads);
+  parts.propagator = std::move(propagator);
   parts.find_burn_ups = &find_burn_ups;
 #else
   return not_built("propagator", "the numerical propagator");
@@ -89,6 +91,10 @@ std::optional<FieldError> prepare(const v1::Scenario& scenario, const BuildOptio
                                   SimulationConfig& config, SimulationParts& parts) {
   if (auto e = validate_scenario(scenario)) return e;
   config = to_simulation_config(scenario, options.threads);
+  if (!options.checkpoints) {
+    config.checkpoint_every_steps = 0;
+    config.checkpoint_every_wall_s = 0.0;
+  }
   return make_parts(scenario, config, parts);
 }
 

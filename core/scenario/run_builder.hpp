@@ -36,6 +36,8 @@ SimulationConfig to_simulation_config(const v1::Scenario& scenario, int threads 
 struct BuildOptions {
   int threads = 0;  // 0: OpenMP's default
   std::string datasets_dir = KESSLER_DATASETS_DIR;
+  // False: no checkpoints are taken (a host with nowhere to keep them saves the time).
+  bool checkpoints = true;
 };
 
 // The run the scenario describes: validates, ingests the population, builds the propagator.

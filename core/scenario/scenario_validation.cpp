@@ -4,6 +4,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/population/leo19647.hpp"
 #include "core/scenario/run_builder.hpp"
 #include "core/scenario/scenario_defaults.hpp"
 
@@ -28,9 +29,15 @@ std::optional<FieldError> non_negative(bool has, double v, const char* path) {
   return std::nullopt;
 }
 
+bool is_leo19647(const v1::Scenario& s) {
+  return s.population().has_dataset() && s.population().dataset() == "leo-19647";
+}
+
+// A dataset of states (not element sets) fixes the epoch: leo-19647's states are at its own epoch.
 UtcEpoch start_of(const v1::Scenario& s) {
-  return *UtcEpoch::parse_iso8601(s.start_epoch().empty() ? d::kStartEpoch
-                                                          : std::string_view(s.start_epoch()));
+  if (s.start_epoch().empty())
+    return *UtcEpoch::parse_iso8601(is_leo19647(s) ? kLeo19647EpochIso : d::kStartEpoch);
+  return *UtcEpoch::parse_iso8601(s.start_epoch());
 }
 
 double duration_s_of(const v1::Scenario& s) {
@@ -138,6 +145,9 @@ std::optional<FieldError> validate_scenario(const v1::Scenario& s) {
   std::string why;
   if (!s.start_epoch().empty() && !UtcEpoch::parse_iso8601(s.start_epoch(), &why))
     return FieldError{"start_epoch", why};
+  if (is_leo19647(s) && !(start_of(s) == leo19647_epoch()))
+    return FieldError{"start_epoch", std::string("must be the leo-19647 states' epoch, ") +
+                                         kLeo19647EpochIso + " (or left out)"};
   if (s.has_end_epoch()) {
     if (!UtcEpoch::parse_iso8601(s.end_epoch(), &why)) return FieldError{"end_epoch", why};
     if (!(duration_s_of(s) > 0.0)) return FieldError{"end_epoch", "must be after start_epoch"};

@@ -37,7 +37,9 @@ progress_every_steps: 50
 seed: 42
 )",
      ""},
-    {"end epoch", "end_epoch: 2022-01-02T00:00:00Z\npopulation: {dataset: leo-19647}", ""},
+    {"end epoch", "end_epoch: 2022-03-02T00:00:00Z\npopulation: {dataset: leo-19647}", ""},
+    {"leo-19647 epoch", "start_epoch: 2022-01-01T00:00:00Z\npopulation: {dataset: leo-19647}",
+     "start_epoch: must be the leo-19647 states' epoch, 2022-03-01T00:00:00Z (or left out)"},
     {"full enum names", "propagator: PROPAGATOR_SGP4\npopulation: {dataset: catalog-2022}", ""},
     {"empty", "", "the scenario is empty (it needs at least a population)"},
     {"no population", "name: x",
@@ -73,15 +75,15 @@ seed: 42
     {"two sources", "population: {dataset: leo-19647, synthetic: {objects: 3}}",
      "population.synthetic: conflicts with 'dataset': give only one of them"},
     {"duration and end",
-     "duration_days: 1\nend_epoch: 2022-01-03T00:00:00Z\npopulation: {dataset: leo-19647}",
+     "duration_days: 1\nend_epoch: 2022-03-03T00:00:00Z\npopulation: {dataset: leo-19647}",
      "end_epoch: conflicts with 'duration_days': give only one of them"},
     {"zero step", "dt_s: 0\npopulation: {dataset: leo-19647}", "dt_s: must be positive, got 0"},
     {"negative step", "dt_s: -10\npopulation: {dataset: leo-19647}", "dt_s: must be positive, got -10"},
     {"shorter than a step", "duration_days: 0.0001\npopulation: {dataset: leo-19647}",
      "duration_days: the run (8.64 s) is shorter than one step (dt_s = 10 s)"},
-    {"end before start", "end_epoch: 2021-12-31T00:00:00Z\npopulation: {dataset: leo-19647}",
+    {"end before start", "end_epoch: 2021-12-31T00:00:00Z\npopulation: {dataset: catalog-2022}",
      "end_epoch: must be after start_epoch"},
-    {"bad epoch", "start_epoch: yesterday\npopulation: {dataset: leo-19647}",
+    {"bad epoch", "start_epoch: yesterday\npopulation: {dataset: catalog-2022}",
      "start_epoch: not an ISO 8601 UTC date (expected YYYY-MM-DD): 'yesterday'"},
     {"kappa zero", "population: {dataset: leo-19647}\nconjunctions: {kappa_max: 0}",
      "conjunctions.kappa_max: must be in (0, 10], got 0"},
@@ -133,7 +135,7 @@ INSTANTIATE_TEST_SUITE_P(Table, ScenarioFiles, ::testing::ValuesIn(kCases), [](c
 
 TEST(ScenarioMapping, DefaultsAreThePapers) {
   v1::Scenario s;
-  ASSERT_FALSE(parse_scenario("population: {dataset: leo-19647}", s));
+  ASSERT_FALSE(parse_scenario("population: {synthetic: {objects: 5}}", s));
   SimulationConfig c = to_simulation_config(s);
   EXPECT_EQ(c.start_epoch, UtcEpoch::from_calendar(2022, 1, 1, 0, 0, 0.0));
   EXPECT_EQ(c.dt_s, 10.0);
@@ -156,8 +158,8 @@ TEST(ScenarioMapping, DefaultsAreThePapers) {
 TEST(ScenarioMapping, SetFieldsReachTheConfig) {
   v1::Scenario s;
   ASSERT_FALSE(parse_scenario(R"(
-start_epoch: 2022-01-22T00:00:00Z
-end_epoch: 2022-01-29T00:00:00Z
+start_epoch: 2022-03-01T00:00:00Z
+end_epoch: 2022-03-08T00:00:00Z
 dt_s: 5
 force_model: {srp: false, atmosphere: exponential_fit}
 population: {dataset: leo-19647}
