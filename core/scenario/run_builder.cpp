@@ -13,6 +13,10 @@
 #define KESSLER_HAVE_DETECTOR 1
 #include "core/conjunctions/detector.hpp"
 #endif
+#if __has_include("core/population/bundled_datasets.hpp")
+#define KESSLER_HAVE_INGEST 1
+#include "core/population/bundled_datasets.hpp"
+#endif
 #if __has_include("core/population/leo19647.hpp")
 #define KESSLER_HAVE_LEO19647 1
 #include "core/population/leo19647.hpp"
@@ -24,6 +28,54 @@ namespace {
 FieldError not_built(const std::string& path, const std::string& what) {
   return FieldError{path, what + " is not part of this build"};
 }
+
+#ifdef KESSLER_HAVE_INGEST
+IngestRules ingest_rules_of(const v1::PopulationSource& source) {
+  const v1::IngestRules& r = source.rules();
+  IngestRules rules;
+  rules.strict = r.strict();
+  if (r.has_min_perigee_km()) rules.min_perigee_km = r.min_perigee_km();
+  if (r.has_max_apogee_km()) rules.max_apogee_km = r.max_apogee_km();
+  rules.exclude_names.assign(r.exclude_names().begin(), r.exclude_names().end());
+  rules.default_exclusions = !r.no_default_exclusions();
+  rules.object_types.assign(r.object_types().begin(), r.object_types().end());
+  if (r.has_max_epoch_after_start_days()) rules.max_epoch_after_start_days = r.max_epoch_after_start_days();
+  if (r.has_small_radius_mean_m()) rules.sizes.small.mean_m = r.small_radius_mean_m();
+  if (r.has_small_radius_stddev_m()) rules.sizes.small.stddev_m = r.small_radius_stddev_m();
+  if (r.has_medium_radius_mean_m()) rules.sizes.medium.mean_m = r.medium_radius_mean_m();
+  if (r.has_medium_radius_stddev_m()) rules.sizes.medium.stddev_m = r.medium_radius_stddev_m();
+  if (r.has_large_radius_mean_m()) rules.sizes.large.mean_m = r.large_radius_mean_m();
+  if (r.has_large_radius_stddev_m()) rules.sizes.large.stddev_m = r.large_radius_stddev_m();
+  rules.max_objects = source.has_max_objects() ? source.max_objects() : 0;
+  return rules;
+}
+
+CatalogFormat catalog_format_of(v1::CatalogFormat format) {
+  switch (format) {
+    case v1::CATALOG_FORMAT_TLE: return CatalogFormat::kTle;
+    case v1::CATALOG_FORMAT_OMM_CSV: return CatalogFormat::kOmmCsv;
+    case v1::CATALOG_FORMAT_OMM_JSON: return CatalogFormat::kOmmJson;
+    case v1::CATALOG_FORMAT_OMM_KVN: return CatalogFormat::kOmmKvn;
+    default: return CatalogFormat::kDetect;
+  }
+}
+
+// A catalog through the paper's ingest rules; the report's reasons when nothing is left.
+std::optional<FieldError> ingest(const CatalogInput& input, const v1::PopulationSource& source,
+                                 const SimulationConfig& config, const std::string& path, Population& out) {
+  IngestResult result = ingest_catalog(input, ingest_rules_of(source), config.start_epoch, config.seed);
+  if (result.refused) return FieldError{path, result.error};
+  if (result.population.empty()) {
+    std::string why = "no objects are left after the ingest filters (" + std::to_string(result.report.records) +
+                      " records, " + std::to_string(result.report.rejected) + " rejected";
+    for (const auto& [reason, count] : result.report.filtered_by_reason)
+      why += ", " + std::to_string(count) + " " + reason;
+    return FieldError{"population", why + "); nothing to simulate"};
+  }
+  out = std::move(result.population);
+  return std::nullopt;
+}
+#endif
 
 // The population the scenario names, before max_objects.
 std::optional<FieldError> load_population(const v1::Scenario& scenario, const SimulationConfig& config,
@@ -43,9 +95,31 @@ std::optional<FieldError> load_population(const v1::Scenario& scenario, const Si
           return not_built("population.dataset", "the leo-19647 loader");
 #endif
         }
+#ifdef KESSLER_HAVE_INGEST
+        {
+          std::string why;
+          auto input = load_bundled_catalog(source.dataset(), options.datasets_dir, &why);
+          if (!input) return FieldError{"population.dataset", why};
+          return ingest(*input, source, config, "population.dataset", out);
+        }
+#else
         return not_built("population.dataset", "the catalog-2022 loader");
-      case v1::PopulationSource::kCatalog:
+#endif
+      case v1::PopulationSource::kCatalog: {
+#ifdef KESSLER_HAVE_INGEST
+        CatalogInput input;
+        input.format = catalog_format_of(source.catalog().format());
+        input.text = source.catalog().text();
+        input.source = "population.catalog.text";
+        input.satcat_csv = source.catalog().satcat_csv();
+        input.satcat_source = "population.catalog.satcat_csv";
+        input.active_list = source.catalog().active_list();
+        input.active_list_source = "population.catalog.active_list";
+        return ingest(input, source, config, "population.catalog", out);
+#else
         return not_built("population.catalog", "catalog ingest");
+#endif
+      }
       case v1::PopulationSource::kSynthetic:
         return not_built("population.synthetic", "the synthetic generator");
       case v1::PopulationSource::kStateTable:
