@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/conjunctions/broad_phase_grid.hpp"
 #include "core/conjunctions/encounter.hpp"
 #include "core/integration/propagator.hpp"
 
@@ -35,6 +36,16 @@ class ConjunctionDetector {
   double last_grid_s_ = 0.0;
   double last_narrow_s_ = 0.0;
   std::size_t last_candidate_pairs_ = 0;
+
+  // Narrow phase of one candidate pair (population indices); appends its encounters.
+  void examine_pair(const Population& population, const StepEnds& step, std::size_t i, std::size_t j,
+                    std::vector<Encounter>& found) const;
+
+  // Scratch kept between scans so a step allocates nothing once warm.
+  BroadPhaseGrid grid_;
+  std::vector<double> shares_;                          // per object: its share of the threshold [m]
+  std::vector<std::vector<CandidatePair>> candidates_;  // per thread
+  std::vector<std::vector<Encounter>> events_;          // per thread
 };
 
 }  // namespace kessler

@@ -26,7 +26,8 @@ void yoshida_step(const StepArrays& s, std::size_t n, const ForceInstant& f1, co
   const double c1 = YoshidaPropagator::kC1 * dt, c2 = YoshidaPropagator::kC2 * dt;
   const double d1 = YoshidaPropagator::kD1 * dt, d2 = YoshidaPropagator::kD2 * dt;
   const long count = static_cast<long>(n);
-#pragma omp parallel for simd schedule(static) num_threads(threads)
+// Tiny populations (tests, tools) run on the calling thread: a team costs more than it saves.
+#pragma omp parallel for simd schedule(static) num_threads(threads) if (count >= 512)
   for (long i = 0; i < count; ++i) {
     double x = s.x[i], y = s.y[i], z = s.z[i];
     double vx = s.vx[i], vy = s.vy[i], vz = s.vz[i];
