@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/conjunctions/broad_phase_grid.hpp"
 #include "core/conjunctions/encounter.hpp"
 #include "core/integration/propagator.hpp"
 
@@ -24,7 +25,8 @@ class ConjunctionDetector {
   // identical for any thread count.
   void scan(const Population& population, const StepEnds& step, std::vector<Encounter>& out);
 
-  // Seconds of the last scan spent in the broad phase (grid build and candidate pairs) and the rest.
+  // Seconds of the last scan spent in the broad phase (grid build and candidate pairs, until the last
+  // thread has its candidates) and the rest (narrow phase, merge, sort).
   double last_grid_s() const { return last_grid_s_; }
   double last_narrow_s() const { return last_narrow_s_; }
   // Candidate pairs the broad phase produced in the last scan.
@@ -35,6 +37,17 @@ class ConjunctionDetector {
   double last_grid_s_ = 0.0;
   double last_narrow_s_ = 0.0;
   std::size_t last_candidate_pairs_ = 0;
+
+  // Narrow phase of one candidate pair (population indices); appends its encounters.
+  void examine_pair(const Population& population, const StepEnds& step, std::size_t i, std::size_t j,
+                    std::vector<Encounter>& found) const;
+
+  // Scratch kept between scans so a step allocates nothing once warm.
+  BroadPhaseGrid grid_;
+  std::vector<double> shares_;                          // per object: its share of the threshold [m]
+  std::vector<std::vector<CandidatePair>> candidates_;  // per thread
+  std::vector<std::vector<Encounter>> events_;          // per thread
+  std::vector<double> collected_at_;                    // per thread: when its candidates were complete
 };
 
 }  // namespace kessler

@@ -36,10 +36,10 @@ enum class EncounterKind : std::uint8_t {
 struct Encounter {
   ObjectId id1 = 0;
   ObjectId id2 = 0;
-  double tca_s = 0.0;              // time of closest approach, seconds since the scenario epoch
+  double tca_s = 0.0;  // time of closest approach, seconds since the scenario epoch
   double miss_distance_m = 0.0;
   double relative_speed_m_s = 0.0;
-  double kappa = 0.0;              // miss_distance / (r1 + r2)
+  double kappa = 0.0;  // miss_distance / (r1 + r2)
   EncounterKind kind = EncounterKind::kConjunction;
   Eigen::Vector3d r1_m, v1_m_s, r2_m, v2_m_s;  // TEME of epoch at the time of closest approach
 };

@@ -1,0 +1,102 @@
+// Broad phase: a hashed grid of swept boxes, rebuilt every step in O(N), that yields every pair of
+// objects which can come within its threshold at any moment of the step, and few others.
+//
+// Cutoff derivation. Over a step each object stays inside a box known from its end states alone:
+//   - Hermite motion is the cubic Bezier curve with control points p0, p0 + dt v0 / 3, p1 - dt v1 / 3,
+//     p1, and a Bezier curve lies in the convex hull of its control points, so in their bounding box;
+//   - the paper's straight line lies in the box of p0 and p0 + dt v0.
+// Each box is grown by the object's share of the threshold, h_i = kappa_max r_i (or half the screening
+// distance), plus 1 mm against rounding. Two objects can be within kappa_max (r_i + r_j) (or the
+// screening distance) at some instant only if their grown boxes overlap: they would have to be within
+// that distance even allowing each to be anywhere in its box at any time.
+// The grid's cell edge L is the largest edge of any grown box in this step (times 1 + 1e-9 against
+// rounding): the largest displacement of an object in the step along an axis plus the largest
+// threshold share, i.e. the cutoff. If two boxes overlap on an axis, lo_j <= hi_i <= lo_i + L and
+// lo_i <= lo_j + L, so their lower corners are within L and fall in the same or adjacent cells. Every
+// overlapping pair is therefore found by looking at a cell and its 26 neighbours (13 forward ones plus
+// itself, each unordered pair once), and the exact box-overlap test keeps only real candidates.
+// An upper bound of L for any population (validation): a bound orbit above the Earth's surface moves at
+// most at the surface escape speed (11.19 km/s), and the Bezier hull spans at most 5/3 of v dt, so
+// L <= 5/3 * 11.19 km/s * dt + 2 max h_i.
+//
+// Objects whose grown box is larger than that bound (non-finite or unbound states: a propagation gone
+// wrong, an object falling through the Earth before its burn-up is applied) would blow the cell up and
+// make every pair a neighbour. They are kept out of the grid and tested against every object instead
+// (O(N) each), so one bad object costs O(N), not O(N^2).
+//
+// Cells are hashed (an occupied cell per object at most, in a table of a power of two >= 4 N buckets)
+// and objects are ordered by bucket with a counting sort, so memory and time stay O(N) whatever the
+// domain's size.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "core/conjunctions/encounter.hpp"
+#include "core/integration/propagator.hpp"
+
+namespace kessler {
+
+// Below this many objects a step is too small to be worth waking threads for.
+inline constexpr std::size_t kParallelMinimumObjects = 1000;
+
+// Two population indices of a candidate pair.
+struct CandidatePair {
+  std::uint32_t i, j;
+};
+
+class BroadPhaseGrid {
+ public:
+  // The escape speed at the Earth's surface [m/s]: no bound orbit above the surface is faster.
+  static constexpr double kMaxOrbitalSpeed_m_s = 11190.0;
+  // An upper bound of the grid cutoff for any population in a step of dt_s whose largest threshold
+  // share per object is max_share_m.
+  static double cutoff_bound_m(double dt_s, double max_share_m) {
+    return 5.0 / 3.0 * kMaxOrbitalSpeed_m_s * dt_s + 2.0 * max_share_m;
+  }
+
+  // Builds the boxes and the grid for one step. share_m[i] is object i's share of the threshold.
+  // Boxes larger than oversize_m along an axis are kept out of the grid (see above).
+  // Parallel inside (call outside any parallel region).
+  void build(const StepEnds& step, NarrowPhase motion, const std::vector<double>& share_m, double oversize_m);
+
+  // Number of slots (objects in bucket order); pairs are enumerated per slot range so threads can split
+  // the work. Appends each candidate pair (boxes overlap) whose first member is in [slot_begin, slot_end).
+  std::size_t slot_count() const { return order_.size(); }
+  void collect_pairs(std::size_t slot_begin, std::size_t slot_end, std::vector<CandidatePair>& out) const;
+
+  // The oversized objects: pairs of oversized object number [begin, end) with every other object
+  // (each pair once).
+  std::size_t oversized_count() const { return oversized_.size(); }
+  void collect_oversized_pairs(std::size_t begin, std::size_t end, std::vector<CandidatePair>& out) const;
+
+  double cell_size_m() const { return cell_size_m_; }
+
+ private:
+  std::size_t bucket_of(std::uint64_t cell_key) const {
+    return static_cast<std::size_t>((cell_key * 0x9E3779B97F4A7C15ull) >> hash_shift_);
+  }
+  // Pairs of slot k with the objects of cell `key` (slots after k only when same_cell).
+  void pair_with_cell(std::size_t k, std::uint64_t key, bool same_cell,
+                      std::vector<CandidatePair>& out) const;
+
+  double cell_size_m_ = 0.0;
+  int hash_shift_ = 64;
+  // Per object (population index): grown box and cell key, then per slot (bucket order) copies.
+  std::vector<double> lo_x_, lo_y_, lo_z_, hi_x_, hi_y_, hi_z_;
+  std::vector<std::uint64_t> key_;
+  std::vector<std::uint32_t> bucket_;
+  std::vector<char> oversized_flag_;
+  std::vector<std::uint32_t> oversized_;     // population indices, ascending
+  std::vector<std::uint32_t> bucket_start_;  // size buckets + 1
+  std::vector<std::uint64_t> occupied_;      // one bit per bucket
+  std::vector<std::uint32_t> order_;         // slot -> population index
+  std::vector<double> slot_box_;             // 6 per slot: lo x, y, z, hi x, y, z
+  std::vector<std::uint64_t> slot_key_;
+  // Counting-sort scratch.
+  std::vector<std::uint32_t> scratch_, coarse_count_, partition_start_;
+  std::vector<std::vector<std::uint32_t>> thread_oversized_;
+};
+
+}  // namespace kessler

@@ -1,0 +1,177 @@
+#include "core/conjunctions/detector.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/conjunctions/broad_phase_grid.hpp"
+#include "core/conjunctions/narrow_phase_hermite.hpp"
+#include "core/conjunctions/narrow_phase_linear.hpp"
+#include "core/conjunctions/pair_rules.hpp"
+
+namespace kessler {
+namespace {
+
+// The paper's simulation domain: a cube of 20,000 km edge centred on the Earth.
+constexpr double kDomainEdge_m = 20.0e6;
+// Threshold share used to bound the cutoff when only kappa is known (the radius of a large object).
+constexpr double kBoundingRadius_m = 50.0;
+
+}  // namespace
+
+ConjunctionDetector::ConjunctionDetector(const ConjunctionSettings& settings) : settings_(settings) {
+  // dt is not known here; any positive step checks everything else.
+  if (auto problem = validate(settings, 1.0)) throw std::invalid_argument(*problem);
+}
+
+std::optional<std::string> ConjunctionDetector::validate(const ConjunctionSettings& s, double dt_s) {
+  std::ostringstream why;
+  if (!(s.kappa_max > 0.0 && s.kappa_max <= 10.0)) {
+    why << "kappa_max: must be in (0, 10], got " << s.kappa_max;
+    return why.str();
+  }
+  if (!(s.screening_distance_m >= 0.0) || !std::isfinite(s.screening_distance_m)) {
+    why << "screening_distance_m: must be a finite distance >= 0 (0: use kappa_max), got "
+        << s.screening_distance_m;
+    return why.str();
+  }
+  if (!(s.active_passive_max_passive_radius_m >= 0.0)) {
+    why << "active_passive_max_passive_radius_m: must be >= 0, got " << s.active_passive_max_passive_radius_m;
+    return why.str();
+  }
+  if (!(dt_s > 0.0) || !std::isfinite(dt_s)) {
+    why << "dt_s: the step must be a positive number of seconds, got " << dt_s;
+    return why.str();
+  }
+  if (2.0 * s.screening_distance_m > kDomainEdge_m) {
+    why << "screening_distance_m: " << s.screening_distance_m / 1e3
+        << " km makes the detection cutoff exceed the 20,000 km domain";
+    return why.str();
+  }
+  const double share =
+      s.screening_distance_m > 0.0 ? 0.5 * s.screening_distance_m : s.kappa_max * kBoundingRadius_m;
+  const double cutoff = BroadPhaseGrid::cutoff_bound_m(dt_s, share);
+  if (cutoff > kDomainEdge_m) {
+    why << "dt_s: a step of " << dt_s << " s gives a detection cutoff of " << cutoff / 1e3
+        << " km (objects move up to 11.19 km/s), more than the 20,000 km domain";
+    return why.str();
+  }
+  return std::nullopt;
+}
+
+void ConjunctionDetector::scan(const Population& population, const StepEnds& step,
+                               std::vector<Encounter>& out) {
+  if (auto problem = validate(settings_, step.dt_s)) throw std::invalid_argument(*problem);
+  if (step.start == nullptr || step.end == nullptr)
+    throw std::invalid_argument("step: start and end states are required");
+  const std::size_t n = population.size();
+  if (step.start->size() != n || step.end->size() != n)
+    throw std::invalid_argument("step: states must be index-aligned with the population");
+  last_grid_s_ = last_narrow_s_ = 0.0;
+  last_candidate_pairs_ = 0;
+  if (n < 2) return;
+
+  const double t_begin = omp_get_wtime();
+  const bool screening = settings_.screening_distance_m > 0.0;
+  shares_.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    shares_[i] =
+        screening ? 0.5 * settings_.screening_distance_m : settings_.kappa_max * population.radius_m[i];
+
+  // No bound orbit moves a box further than the validation bound; larger boxes are oversized.
+  double largest_share = 0.0;
+  for (double share : shares_) largest_share = std::max(largest_share, share);
+  grid_.build(step, settings_.narrow_phase, shares_,
+              BroadPhaseGrid::cutoff_bound_m(step.dt_s, largest_share) + 2.0 * 1e-3);
+
+  const int threads = n >= kParallelMinimumObjects ? omp_get_max_threads() : 1;
+  candidates_.resize(static_cast<std::size_t>(threads));
+  events_.resize(static_cast<std::size_t>(threads));
+  collected_at_.assign(static_cast<std::size_t>(threads), t_begin);
+  // Cleared here: OpenMP may give the region fewer threads than asked for.
+  for (auto& list : candidates_) list.clear();
+  for (auto& list : events_) list.clear();
+  const std::size_t slots = grid_.slot_count();
+  // One region, no barrier between the phases: each thread collects its share of candidate pairs into
+  // its own compact array, then runs the narrow phase on them.
+#pragma omp parallel num_threads(threads)
+  {
+    const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
+    std::vector<CandidatePair>& mine = candidates_[t];
+    // Slot blocks handed out dynamically: dense regions of the sky cost more.
+    constexpr std::int64_t kBlock = 256;
+    const std::int64_t blocks = static_cast<std::int64_t>((slots + kBlock - 1) / kBlock);
+#pragma omp for schedule(dynamic, 4) nowait
+    for (std::int64_t b = 0; b < blocks; ++b) {
+      const std::size_t begin = static_cast<std::size_t>(b * kBlock);
+      grid_.collect_pairs(begin, std::min(slots, begin + static_cast<std::size_t>(kBlock)), mine);
+    }
+    const std::int64_t oversized = static_cast<std::int64_t>(grid_.oversized_count());
+#pragma omp for schedule(dynamic, 1) nowait
+    for (std::int64_t o = 0; o < oversized; ++o)
+      grid_.collect_oversized_pairs(static_cast<std::size_t>(o), static_cast<std::size_t>(o) + 1, mine);
+    collected_at_[t] = omp_get_wtime();
+    std::vector<Encounter>& found = events_[t];
+    for (const CandidatePair& pair : mine) examine_pair(population, step, pair.i, pair.j, found);
+  }
+  const double t_grid = *std::max_element(collected_at_.begin(), collected_at_.end());
+  std::size_t total = 0, pairs = 0;
+  for (int t = 0; t < threads; ++t) {
+    total += events_[static_cast<std::size_t>(t)].size();
+    pairs += candidates_[static_cast<std::size_t>(t)].size();
+  }
+  const std::size_t first = out.size();
+  out.reserve(first + total);
+  for (int t = 0; t < threads; ++t)
+    out.insert(out.end(), events_[static_cast<std::size_t>(t)].begin(),
+               events_[static_cast<std::size_t>(t)].end());
+  std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(), canonical_less);
+  const double t_end = omp_get_wtime();
+  last_grid_s_ = t_grid - t_begin;
+  last_narrow_s_ = t_end - t_grid;
+  last_candidate_pairs_ = pairs;
+}
+
+void ConjunctionDetector::examine_pair(const Population& population, const StepEnds& step, std::size_t i,
+                                       std::size_t j, std::vector<Encounter>& found) const {
+  // The lower id is object 1, so a pair's numbers never depend on where or by whom it was found.
+  if (population.id[j] < population.id[i]) std::swap(i, j);
+  const ObjectStep a = gather_object_step(*step.start, *step.end, i);
+  const ObjectStep b = gather_object_step(*step.start, *step.end, j);
+  const double r_sum = population.radius_m[i] + population.radius_m[j];
+  const double threshold =
+      settings_.screening_distance_m > 0.0 ? settings_.screening_distance_m : settings_.kappa_max * r_sum;
+  PairMinimum minima[kMaxMinimaPerStep];
+  const bool hermite = settings_.narrow_phase == NarrowPhase::kHermite;
+  const int count = hermite ? hermite_minima(a, b, step.dt_s, threshold, minima)
+                            : linear_minimum(a, b, step.dt_s, threshold, minima);
+  for (int m = 0; m < count; ++m) {
+    Encounter e;
+    e.id1 = population.id[i];
+    e.id2 = population.id[j];
+    e.tca_s = step.t_start_s + minima[m].tau_s;
+    e.miss_distance_m = minima[m].distance_m;
+    e.kappa = r_sum > 0.0 ? minima[m].distance_m / r_sum : INFINITY;
+    double r1[3], v1[3], r2[3], v2[3];
+    if (hermite) {
+      hermite_state(a, step.dt_s, minima[m].tau_s, r1, v1);
+      hermite_state(b, step.dt_s, minima[m].tau_s, r2, v2);
+    } else {
+      linear_state(a, minima[m].tau_s, r1, v1);
+      linear_state(b, minima[m].tau_s, r2, v2);
+    }
+    e.r1_m = {r1[0], r1[1], r1[2]};
+    e.v1_m_s = {v1[0], v1[1], v1[2]};
+    e.r2_m = {r2[0], r2[1], r2[2]};
+    e.v2_m_s = {v2[0], v2[1], v2[2]};
+    e.relative_speed_m_s = (e.v1_m_s - e.v2_m_s).norm();
+    e.kind = classify_encounter(settings_, population.status[i], population.radius_m[i], population.status[j],
+                                population.radius_m[j], minima[m].distance_m);
+    found.push_back(e);
+  }
+}
+
+}  // namespace kessler

@@ -1,0 +1,66 @@
+#include "core/physics/force_model.hpp"
+
+#include <cmath>
+
+#include "core/physics/sun_ephemeris.hpp"
+
+namespace kessler {
+
+ForceModel::ForceModel(const ForceModelSettings& settings, const UtcEpoch& epoch)
+    : settings_(settings), epoch_(epoch), rotation_(epoch) {}
+
+ForceInstant ForceModel::instant(double t_s) const {
+  constexpr double kMu = constants::kEarthMu_m3_s2;
+  constexpr double kR2 = constants::kEarthGravityRadius_m * constants::kEarthGravityRadius_m;
+  ForceInstant f;
+  f.t_s = t_s;
+  f.mu_m3_s2 = settings_.kepler ? kMu : 0.0;
+  f.j2_mu_r2 = settings_.j2 ? gravity::kJ2 * kMu * kR2 : 0.0;
+  f.c22_mu_r2 = settings_.c22_s22 ? gravity::kC22 * kMu * kR2 : 0.0;
+  f.s22_mu_r2 = settings_.c22_s22 ? gravity::kS22 * kMu * kR2 : 0.0;
+  const double theta = rotation_.angle_rad(t_s);
+  f.cos_theta = std::cos(theta);
+  f.sin_theta = std::sin(theta);
+  f.drag_scale = settings_.drag ? 1.0 : 0.0;
+  f.srp_p_au2 = settings_.srp ? constants::kSolarPressureAt1Au_N_m2 * constants::kAstronomicalUnit_m *
+                                    constants::kAstronomicalUnit_m
+                              : 0.0;
+  const Eigen::Vector3d sun = sun_position_m(epoch_.plus_seconds(t_s));
+  const Eigen::Vector3d unit = sun.normalized();
+  f.sun = {sun.x(),
+           sun.y(),
+           sun.z(),
+           unit.x(),
+           unit.y(),
+           unit.z(),
+           settings_.srp_earth_shadow
+               ? constants::kEarthEquatorialRadius_m * constants::kEarthEquatorialRadius_m
+               : -1.0};
+  const DensityTable& table = DensityTable::standard();
+  f.ln_rho = table.ln_rho();
+  f.slope_per_m = table.slope_per_m();
+  f.cells = table.cells();
+  return f;
+}
+
+Eigen::Vector3d ForceModel::acceleration(const Eigen::Vector3d& r, const Eigen::Vector3d& v, double t_s,
+                                         const ObjectForceProperties& object) const {
+  return acceleration(instant(t_s), r, v, object);
+}
+
+Eigen::Vector3d ForceModel::acceleration(const ForceInstant& f, const Eigen::Vector3d& r,
+                                         const Eigen::Vector3d& v,
+                                         const ObjectForceProperties& object) const {
+  Eigen::Vector3d a;
+  if (settings_.atmosphere == AtmosphereModel::kDensityTable)
+    accelerate<AtmosphereModel::kDensityTable>(f, r.x(), r.y(), r.z(), v.x(), v.y(), v.z(),
+                                               object.drag_area_to_mass_m2_kg, object.srp_area_to_mass_m2_kg,
+                                               a.x(), a.y(), a.z());
+  else
+    accelerate<AtmosphereModel::kExponentialFit>(f, r.x(), r.y(), r.z(), v.x(), v.y(), v.z(),
+                                                 object.drag_area_to_mass_m2_kg,
+                                                 object.srp_area_to_mass_m2_kg, a.x(), a.y(), a.z());
+  return a;
+}
+
+}  // namespace kessler

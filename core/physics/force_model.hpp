@@ -1,0 +1,104 @@
+// The full force model of one object at one instant: Kepler + J2 + C22/S22 + drag + SRP, each switched
+// by ForceModelSettings. Two faces of the same arithmetic:
+//  - ForceModel::acceleration(r, v, t, properties): one object, for tests and tools;
+//  - ForceModel::instant(t) + accelerate<Model>(instant, ...): the scalars of one instant (Earth angle,
+//    Sun position, switched coefficients) computed once, then a per-object inline kernel of + - * / sqrt
+//    and deterministic_exp only, which the propagator's loop vectorises. Both give the same bits.
+// A switched-off term has a zero coefficient, so it adds exactly zero.
+#pragma once
+
+#include <limits>
+
+#include <Eigen/Core>
+
+#include "core/physics/atmosphere.hpp"
+#include "core/physics/drag.hpp"
+#include "core/physics/earth_rotation.hpp"
+#include "core/physics/force_model_settings.hpp"
+#include "core/physics/gravity.hpp"
+#include "core/physics/solar_radiation_pressure.hpp"
+#include "core/time/epoch.hpp"
+
+namespace kessler {
+
+// What the force model needs of an object besides its state.
+struct ObjectForceProperties {
+  double drag_area_to_mass_m2_kg = 0.0;  // Cd A/m
+  double srp_area_to_mass_m2_kg = 0.0;   // A/m
+};
+
+// Every per-instant scalar of the force model.
+struct ForceInstant {
+  double t_s = 0.0;  // seconds since the scenario epoch
+  double mu_m3_s2 = 0.0;
+  double j2_mu_r2 = 0.0;
+  double c22_mu_r2 = 0.0;
+  double s22_mu_r2 = 0.0;
+  double cos_theta = 1.0;  // Earth rotation angle theta(t)
+  double sin_theta = 0.0;
+  double drag_scale = 0.0;  // 1 with drag on, 0 off
+  // Cap on 1/2 rho (Cd A/m) |v_rel| [1/s] (drag.hpp); the propagator sets it from its step.
+  double drag_rate_limit_per_s = std::numeric_limits<double>::infinity();
+  double srp_p_au2 = 0.0;  // P AU^2 [N], 0 with SRP off
+  SunGeometry sun;
+  // Density table arrays (DensityTable::standard()).
+  const double* ln_rho = nullptr;
+  const double* slope_per_m = nullptr;
+  int cells = 0;
+};
+
+template <AtmosphereModel kAtmosphere>
+[[gnu::always_inline]] inline double atmosphere_density(const ForceInstant& f, double altitude_m) {
+  if constexpr (kAtmosphere == AtmosphereModel::kDensityTable)
+    return DensityTable::density_at(f.ln_rho, f.slope_per_m, f.cells, altitude_m);
+  else
+    return exponential_fit_density_kg_m3(altitude_m);
+}
+
+// Acceleration [m/s^2] of one object at the instant f.
+template <AtmosphereModel kAtmosphere>
+[[gnu::always_inline]] inline void accelerate(const ForceInstant& f, double x, double y, double z, double vx,
+                                              double vy, double vz, double drag_area_to_mass,
+                                              double srp_area_to_mass, double& ax, double& ay, double& az) {
+  const double r2 = x * x + y * y + z * z;
+  const double r = std::sqrt(r2);
+  const double inv_r = 1.0 / r;
+  double kx, ky, kz, jx, jy, jz, cx, cy, cz, dx, dy, dz, sx, sy, sz;
+  gravity::kepler_acceleration(f.mu_m3_s2, x, y, z, inv_r, kx, ky, kz);
+  gravity::j2_acceleration(f.j2_mu_r2, x, y, z, inv_r, jx, jy, jz);
+  gravity::c22_s22_acceleration(f.c22_mu_r2, f.s22_mu_r2, f.cos_theta, f.sin_theta, x, y, z, inv_r, cx, cy,
+                                cz);
+  const double rho = atmosphere_density<kAtmosphere>(f, r - constants::kEarthEquatorialRadius_m);
+  drag_acceleration(rho, f.drag_scale * drag_area_to_mass, f.drag_rate_limit_per_s, x, y, vx, vy, vz, dx, dy,
+                    dz);
+  srp_acceleration(f.srp_p_au2, f.sun, srp_area_to_mass, x, y, z, sx, sy, sz);
+  // Small terms first, then the central term: a fixed order, the same in every path.
+  ax = kx + (jx + cx + dx + sx);
+  ay = ky + (jy + cy + dy + sy);
+  az = kz + (jz + cz + dz + sz);
+}
+
+class ForceModel {
+ public:
+  ForceModel(const ForceModelSettings& settings, const UtcEpoch& epoch);
+
+  const ForceModelSettings& settings() const { return settings_; }
+  const UtcEpoch& epoch() const { return epoch_; }
+
+  // The per-instant scalars at t_s seconds since the epoch (a few trig calls and the Sun ephemeris).
+  ForceInstant instant(double t_s) const;
+
+  // Acceleration of one object (TEME [m], [m/s]) at t_s seconds since the epoch [m/s^2].
+  Eigen::Vector3d acceleration(const Eigen::Vector3d& r_m, const Eigen::Vector3d& v_m_s, double t_s,
+                               const ObjectForceProperties& object) const;
+  // Same, with a precomputed instant.
+  Eigen::Vector3d acceleration(const ForceInstant& instant, const Eigen::Vector3d& r_m,
+                               const Eigen::Vector3d& v_m_s, const ObjectForceProperties& object) const;
+
+ private:
+  ForceModelSettings settings_;
+  UtcEpoch epoch_;
+  EarthRotation rotation_;
+};
+
+}  // namespace kessler

@@ -1,0 +1,341 @@
+#include "core/population/ingest.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <unordered_set>
+
+#include "core/population/omm.hpp"
+#include "core/population/satcat.hpp"
+#include "core/population/text_fields.hpp"
+#include "core/sgp4/wgs72.hpp"
+
+namespace kessler {
+namespace {
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+std::string format_double(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+}  // namespace
+
+bool glob_match(std::string_view pattern, std::string_view text) {
+  auto lower = [](char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); };
+  std::size_t p = 0, t = 0, star = std::string_view::npos, mark = 0;
+  while (t < text.size()) {
+    if (p < pattern.size() && (pattern[p] == '?' || lower(pattern[p]) == lower(text[t]))) {
+      ++p;
+      ++t;
+    } else if (p < pattern.size() && pattern[p] == '*') {
+      star = p++;
+      mark = t;
+    } else if (star != std::string_view::npos) {
+      p = star + 1;
+      t = ++mark;
+    } else {
+      return false;
+    }
+  }
+  while (p < pattern.size() && pattern[p] == '*') ++p;
+  return p == pattern.size();
+}
+
+CatalogFormat detect_catalog_format(std::string_view text) {
+  const std::string_view head = text::trim(text.substr(0, 4096));
+  if (head.empty()) return CatalogFormat::kTle;
+  if (head.front() == '[' || head.front() == '{') return CatalogFormat::kOmmJson;
+  if (head.front() == '<') return CatalogFormat::kOmmXml;
+  if (head.find("CCSDS_OMM_VERS") != std::string_view::npos) return CatalogFormat::kOmmKvn;
+  const std::string first_line = text::upper(head.substr(0, head.find('\n')));
+  if (first_line.find("MEAN_MOTION") != std::string::npos && first_line.find(',') != std::string::npos)
+    return CatalogFormat::kOmmCsv;
+  return CatalogFormat::kTle;
+}
+
+const char* catalog_format_name(CatalogFormat f) {
+  switch (f) {
+    case CatalogFormat::kTle:
+      return "TLE/3LE";
+    case CatalogFormat::kOmmCsv:
+      return "OMM CSV";
+    case CatalogFormat::kOmmJson:
+      return "OMM JSON";
+    case CatalogFormat::kOmmKvn:
+      return "OMM KVN";
+    default:
+      return "detect";
+  }
+}
+
+ElementSetText parse_catalog_text(std::string_view text, CatalogFormat format, const std::string& source,
+                                  const TleReadOptions& tle_options) {
+  if (format == CatalogFormat::kDetect) format = detect_catalog_format(text);
+  switch (format) {
+    case CatalogFormat::kOmmCsv:
+      return parse_omm_csv(text, source);
+    case CatalogFormat::kOmmJson:
+      return parse_omm_json(text, source);
+    case CatalogFormat::kOmmKvn:
+      return parse_omm_kvn(text, source);
+    default:
+      return parse_tle_text(text, tle_options, source);
+  }
+}
+
+std::size_t IngestReport::filtered(const std::string& reason) const {
+  for (const auto& [r, n] : filtered_by_reason)
+    if (r == reason) return n;
+  return 0;
+}
+
+std::string IngestReport::text(std::size_t max_listed) const {
+  std::ostringstream o;
+  o << "Ingest of " << source << " (" << format << ") to " << start_epoch.to_iso8601(3) << "\n";
+  o << "  records read:     " << records << "\n";
+  o << "  accepted:         " << accepted << "\n";
+  o << "  rejected:         " << rejected << "\n";
+  for (const auto& [reason, n] : rejected_by_reason) o << "    " << reason << ": " << n << "\n";
+  for (std::size_t i = 0; i < rejections.size() && i < max_listed; ++i) {
+    const auto& p = rejections[i];
+    o << "    " << p.source << ":" << p.line << ": " << p.message << "\n";
+  }
+  if (rejections.size() > max_listed) o << "    ... " << rejections.size() - max_listed << " more\n";
+  o << "  filtered out:\n";
+  for (const auto& [reason, n] : filtered_by_reason) o << "    " << reason << ": " << n << "\n";
+  for (std::size_t i = 0; i < propagation_failures.size() && i < max_listed; ++i)
+    o << "    SGP4 failed for " << propagation_failures[i].first << ": " << propagation_failures[i].second
+      << "\n";
+  if (propagation_failures.size() > max_listed)
+    o << "    ... " << propagation_failures.size() - max_listed << " more SGP4 failures\n";
+  o << "  kept:             " << kept << " (active " << active << ", passive " << passive << ")\n";
+  o << "  status:           active by SATCAT status code " << active_by_status_code << ", by active list "
+    << active_by_list << "\n";
+  o << "  radius:           from numeric RCS " << radius_from_rcs << ", sampled by RCS class "
+    << radius_sampled << " (of which without a class " << radius_sampled_unknown_class << ")\n";
+  o << "  drag:             from BSTAR " << drag_from_bstar << ", from Cd and size " << drag_from_size
+    << "\n";
+  o << "  SATCAT:           " << satcat_rows << " rows, " << satcat_matched << " matched; active list "
+    << active_list_ids << " ids\n";
+  if (!side_input_problems.empty()) o << "  side-input problems: " << side_input_problems.size() << "\n";
+  for (const auto* g : {&active_summary, &passive_summary}) {
+    o << (g == &active_summary ? "  active:  " : "  passive: ") << g->count << " objects, median radius "
+      << format_double(g->median_radius_m, 3) << " m, mass " << format_double(g->median_mass_kg, 2)
+      << " kg, semi-major axis " << format_double(g->median_semi_major_axis_km, 1) << " km\n";
+  }
+  return o.str();
+}
+
+IngestResult ingest_catalog(const CatalogInput& input, const IngestRules& rules, const UtcEpoch& start_epoch,
+                            std::uint64_t seed) {
+  IngestResult result;
+  IngestReport& report = result.report;
+  report.source = input.source;
+  report.start_epoch = start_epoch;
+  const CatalogFormat format =
+      input.format == CatalogFormat::kDetect ? detect_catalog_format(input.text) : input.format;
+  report.format = catalog_format_name(format);
+
+  // 1. Parse; reject epochs too far after the start and duplicate ids.
+  ElementSetText parsed = parse_catalog_text(input.text, format, input.source, {rules.verify_checksums});
+  std::vector<ElementSetEntry> sets;
+  sets.reserve(parsed.sets.size());
+  std::unordered_set<ObjectId> seen;
+  for (auto& entry : parsed.sets) {
+    const double after_days = entry.elements.epoch.seconds_since(start_epoch) / 86400.0;
+    const std::string id_text = "catalog number " + std::to_string(entry.elements.catalog_number);
+    if (after_days > rules.max_epoch_after_start_days) {
+      parsed.problems.push_back({input.source, entry.line, "epoch",
+                                 id_text + ": epoch " + entry.elements.epoch.to_iso8601(3) + " is " +
+                                     format_double(after_days, 2) + " days after the start epoch (limit " +
+                                     format_double(rules.max_epoch_after_start_days, 2) + ")"});
+      continue;
+    }
+    if (!seen.insert(entry.elements.catalog_number).second) {
+      parsed.problems.push_back(
+          {input.source, entry.line, "duplicate", id_text + ": appears more than once"});
+      continue;
+    }
+    sets.push_back(std::move(entry));
+  }
+  std::sort(parsed.problems.begin(), parsed.problems.end(),
+            [](const ParseProblem& a, const ParseProblem& b) { return a.line < b.line; });
+  report.accepted = sets.size();
+  report.rejected = parsed.problems.size();
+  report.records = report.accepted + report.rejected;
+  for (const auto& p : parsed.problems) ++report.rejected_by_reason[p.reason_key];
+  report.rejections = std::move(parsed.problems);
+  if (rules.strict && !report.rejections.empty()) {
+    const auto& p = report.rejections.front();
+    result.refused = true;
+    result.error = "strict ingest refused " + input.source + ": " + std::to_string(report.rejected) +
+                   " bad record(s); first at line " + std::to_string(p.line) + ": " + p.message;
+    return result;
+  }
+
+  // Side inputs.
+  SatcatTable satcat;
+  if (!input.satcat_csv.empty()) {
+    satcat = parse_satcat_csv(input.satcat_csv, input.satcat_source);
+    report.satcat_rows = satcat.rows;
+    report.side_input_problems = satcat.problems;
+  }
+  std::unordered_set<ObjectId> active_ids;
+  if (!input.active_list.empty()) {
+    active_ids = parse_active_list(input.active_list, input.active_list_source, &report.side_input_problems);
+    report.active_list_ids = active_ids.size();
+  }
+
+  // 2. Filters by name, type and mean-element altitude band; 3. SGP4 to the start epoch.
+  std::vector<std::string> exclusions = rules.exclude_names;
+  if (rules.default_exclusions)
+    for (auto& p : IngestRules::paper_exclusions()) exclusions.push_back(p);
+  std::vector<std::string> types;
+  for (const auto& t : rules.object_types) types.push_back(text::upper(text::trim(t)));
+
+  const std::size_t n = sets.size();
+  std::vector<Sgp4Record> records(n);
+  std::vector<Sgp4State> states(n);
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::size_t i = 0; i < n; ++i) {
+    records[i] = sgp4_initialise(sets[i].elements);
+    const double minutes = start_epoch.seconds_since(sets[i].elements.epoch) / 60.0;
+    states[i] = records[i].init_error != Sgp4Error::kNone ? Sgp4State{{}, {}, records[i].init_error}
+                                                          : sgp4_propagate(records[i], minutes);
+  }
+
+  const std::vector<std::string> reasons = {"excluded name",     "object type", "perigee below band",
+                                            "apogee above band", "SGP4 failed", "radius below minimum",
+                                            "invalid state",     "max objects"};
+  std::map<std::string, std::size_t> filtered;
+  for (std::size_t i = 0; i < n; ++i) {
+    const MeanElements& el = sets[i].elements;
+    const ObjectId id = el.catalog_number;
+    const auto sat = satcat.entries.find(id);
+    const SatcatEntry* entry = sat == satcat.entries.end() ? nullptr : &sat->second;
+    if (entry) ++report.satcat_matched;
+    const std::string& name = !el.name.empty() ? el.name : (entry ? entry->name : el.name);
+
+    if (std::any_of(exclusions.begin(), exclusions.end(),
+                    [&](const std::string& p) { return glob_match(p, name); })) {
+      ++filtered["excluded name"];
+      continue;
+    }
+    if (!types.empty()) {
+      const std::string type = entry ? entry->object_type : "UNKNOWN";
+      if (std::find(types.begin(), types.end(), type) == types.end()) {
+        ++filtered["object type"];
+        continue;
+      }
+    }
+    // Brouwer mean semi-major axis, as SGP4 recovers it [km].
+    const double a_km = std::pow(sgp4::kXke / records[i].no_unkozai, 2.0 / 3.0) * sgp4::kEarthRadius_km;
+    const double perigee_km = a_km * (1.0 - el.eccentricity) - sgp4::kEarthRadius_km;
+    const double apogee_km = a_km * (1.0 + el.eccentricity) - sgp4::kEarthRadius_km;
+    if (perigee_km < rules.min_perigee_km) {
+      ++filtered["perigee below band"];
+      continue;
+    }
+    if (apogee_km > rules.max_apogee_km) {
+      ++filtered["apogee above band"];
+      continue;
+    }
+    if (states[i].error != Sgp4Error::kNone) {
+      ++filtered["SGP4 failed"];
+      report.propagation_failures.push_back({id, sgp4_error_text(states[i].error)});
+      continue;
+    }
+
+    // 4. Properties.
+    ObjectRecord rec;
+    rec.id = id;
+    rec.name = name;
+    for (int k = 0; k < 3; ++k) {
+      rec.position_m[k] = states[i].position_km[k] * 1000.0;
+      rec.velocity_m_s[k] = states[i].velocity_km_s[k] * 1000.0;
+    }
+    bool sampled = false;
+    if (entry && entry->rcs_m2) {
+      rec.radius_m = radius_from_rcs_m(*entry->rcs_m2);
+      if (rec.radius_m < rules.sizes.min_radius_m) {
+        ++filtered["radius below minimum"];
+        continue;
+      }
+    } else {
+      const RcsSizeClass c = entry ? entry->size_class : RcsSizeClass::kUnknown;
+      rec.radius_m = sample_radius_m(rules.sizes, c, seed, id);
+      sampled = true;
+      if (c == RcsSizeClass::kUnknown) ++report.radius_sampled_unknown_class;
+    }
+    rec.mass_kg = mass_from_radius_kg(rec.radius_m);
+    const bool bstar_drag = el.bstar_per_earth_radius > 0.0;
+    rec.drag_area_to_mass_m2_kg =
+        bstar_drag ? drag_area_to_mass_from_bstar(el.bstar_per_earth_radius)
+                   : drag_area_to_mass_from_size(rec.radius_m, rec.mass_kg, rules.drag_coefficient);
+    rec.srp_area_to_mass_m2_kg = srp_area_to_mass(rec.radius_m, rec.mass_kg);
+    const bool by_code = entry && entry->ops_status_code && is_active_status_code(*entry->ops_status_code);
+    const bool by_list = active_ids.count(id) > 0;
+    rec.status = by_code || by_list ? ObjectStatus::kActive : ObjectStatus::kPassive;
+    if (auto problem = validate_record(rec)) {
+      ++filtered["invalid state"];
+      report.propagation_failures.push_back({id, *problem});
+      continue;
+    }
+    if (rules.max_objects && result.population.size() >= rules.max_objects) {
+      ++filtered["max objects"];
+      continue;
+    }
+    if (sampled)
+      ++report.radius_sampled;
+    else
+      ++report.radius_from_rcs;
+    if (bstar_drag)
+      ++report.drag_from_bstar;
+    else
+      ++report.drag_from_size;
+    if (rec.status == ObjectStatus::kActive) {
+      ++report.active;
+      if (by_code)
+        ++report.active_by_status_code;
+      else
+        ++report.active_by_list;
+    } else {
+      ++report.passive;
+    }
+    result.population.add(rec);
+    result.elements.push_back(el);
+    result.sgp4_records.push_back(records[i]);
+    result.mean_semi_major_axis_km.push_back(a_km);
+  }
+  for (const auto& r : reasons)
+    if (filtered.count(r)) report.filtered_by_reason.push_back({r, filtered[r]});
+  report.kept = result.population.size();
+
+  // Summaries per status.
+  for (const ObjectStatus status : {ObjectStatus::kActive, ObjectStatus::kPassive}) {
+    std::vector<double> radius, mass, sma;
+    for (std::size_t i = 0; i < result.population.size(); ++i) {
+      if (result.population.status[i] != status) continue;
+      radius.push_back(result.population.radius_m[i]);
+      mass.push_back(result.population.mass_kg[i]);
+      sma.push_back(result.mean_semi_major_axis_km[i]);
+    }
+    GroupSummary& g = status == ObjectStatus::kActive ? report.active_summary : report.passive_summary;
+    g.count = radius.size();
+    g.median_radius_m = median(radius);
+    g.median_mass_kg = median(mass);
+    g.median_semi_major_axis_km = median(sma);
+  }
+  return result;
+}
+
+}  // namespace kessler

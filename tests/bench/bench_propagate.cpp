@@ -1,0 +1,107 @@
+// kessler-bench propagate: the Yoshida propagator with the full force model (Kepler, J2, C22/S22, drag
+// on the density table, SRP with shadow) on the leo-19647 population, repeated to reach --objects
+// (each copy's positions scaled by 1 + 1e-6 copy so no two objects coincide), dt = 10 s.
+#include <omp.h>
+#include <time.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+
+#include "core/integration/yoshida_propagator.hpp"
+#include "core/population/leo19647.hpp"
+#include "tests/bench/bench.hpp"
+
+namespace kessler::bench {
+namespace {
+
+// CPU time of the whole process (all threads) [s]: unlike wall time, it does not count the time other
+// programs on a shared machine take the core away.
+double process_cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+Population make_population(const std::string& dir, std::size_t objects) {
+  const Population base = load_leo19647(dir);
+  Population p;
+  p.reserve(objects);
+  for (std::size_t i = 0; i < objects; ++i) {
+    ObjectRecord r = base.record(i % base.size());
+    const std::size_t copy = i / base.size();
+    r.id = i + 1;
+    r.position_m *= 1.0 + 1.0e-6 * static_cast<double>(copy);
+    p.add(r);
+  }
+  return p;
+}
+
+int run(int argc, char** argv) {
+  Args args(argc, argv);
+  args.allow_only(
+      {"--objects", "--steps", "--threads", "--repeats", "--dataset", "--dt", "--atmosphere", "--forces"});
+  const auto objects = static_cast<std::size_t>(args.get_int("--objects", 20000));
+  const auto steps = args.get_int("--steps", 100);
+  const int threads = static_cast<int>(args.get_int("--threads", 1));
+  const int repeats = static_cast<int>(args.get_int("--repeats", 5));
+  const double dt = args.get_double("--dt", 10.0);
+  const std::string dir = args.get("--dataset", std::string(KESSLER_DATASETS_DIR) + "/leo-19647");
+  const std::string atmosphere = args.get("--atmosphere", "table");
+  if (objects == 0 || steps <= 0 || threads <= 0 || repeats <= 0 || !(dt > 0)) {
+    std::cerr << "kessler-bench propagate: --objects, --steps, --threads, --repeats, --dt must be positive\n";
+    return 2;
+  }
+  if (atmosphere != "table" && atmosphere != "fit") {
+    std::cerr << "kessler-bench propagate: --atmosphere is 'table' or 'fit'\n";
+    return 2;
+  }
+  const Population initial = make_population(dir, objects);
+  ForceModelSettings forces;  // everything on unless --forces lists a subset
+  const std::string force_list = args.get("--forces", "kepler,j2,c22,drag,srp");
+  forces.kepler = force_list.find("kepler") != std::string::npos;
+  forces.j2 = force_list.find("j2") != std::string::npos;
+  forces.c22_s22 = force_list.find("c22") != std::string::npos;
+  forces.drag = force_list.find("drag") != std::string::npos;
+  forces.srp = force_list.find("srp") != std::string::npos;
+  forces.atmosphere = atmosphere == "fit" ? AtmosphereModel::kExponentialFit : AtmosphereModel::kDensityTable;
+  YoshidaPropagator propagator(forces, leo19647_epoch());
+  propagator.set_threads(threads);
+  std::vector<double> walls, cpus;
+  for (int rep = 0; rep < repeats; ++rep) {
+    Population p = initial;
+    propagator.step(p, 0.0, dt);  // warm-up: first touch, thread pool
+    const double start = now_s(), cpu_start = process_cpu_s();
+    for (std::int64_t s = 1; s <= steps; ++s) propagator.step(p, s * dt, dt);
+    walls.push_back(now_s() - start);
+    cpus.push_back(process_cpu_s() - cpu_start);
+    std::printf("repeat %d: %.4f s, %.1f ns/object-step\n", rep + 1, walls.back(),
+                walls.back() * threads * 1e9 / (static_cast<double>(objects) * steps));
+  }
+  const double wall = median(walls);
+  JsonLine()
+      .add("benchmark", std::string("propagate"))
+      .add("objects", static_cast<std::int64_t>(objects))
+      .add("steps", steps)
+      .add("threads", static_cast<std::int64_t>(threads))
+      .add("repeats", static_cast<std::int64_t>(repeats))
+      .add("dt_s", dt)
+      .add("atmosphere", atmosphere)
+      .add("forces", force_list)
+      .add("wall_s", wall)
+      .add("wall_min_s", *std::min_element(walls.begin(), walls.end()))
+      .add("cpu_s", median(cpus))
+      .add("ns_per_object_step", wall * threads * 1e9 / (static_cast<double>(objects) * steps))
+      .add("cpu_ns_per_object_step", median(cpus) * 1e9 / (static_cast<double>(objects) * steps))
+      .print();
+  return 0;
+}
+
+}  // namespace
+
+KESSLER_BENCH("propagate",
+              "Yoshida step, full force model, leo-19647 repeated to --objects N; --steps S --threads T "
+              "[--repeats R --atmosphere table|fit --forces kepler,j2,c22,drag,srp]",
+              run);
+
+}  // namespace kessler::bench

@@ -1,0 +1,144 @@
+// The detector against the brute-force reference on random LEO populations, and its independence of
+// the thread count.
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <cstring>
+#include <iostream>
+#include <map>
+#include <random>
+
+#include "tests/conjunctions/brute_force_reference.hpp"
+#include "tests/conjunctions/scenario.hpp"
+
+namespace kessler {
+namespace {
+
+constexpr double kDt = 10.0;
+constexpr int kSteps = 200;
+constexpr std::size_t kObjects = 2000;
+
+struct RandomLeo {
+  Population population;
+  std::vector<StateArrays> snaps;
+};
+
+// 2,000 objects between 500 and 700 km altitude, every fifth active, 200 steps of 10 s.
+const RandomLeo& random_leo(bool big_radii) {
+  static std::map<bool, RandomLeo> cache;
+  auto it = cache.find(big_radii);
+  if (it != cache.end()) return it->second;
+  RandomLeo& r = cache[big_radii];
+  const auto states = testing::random_leo_states(kObjects, big_radii ? 7 : 11, 500e3, 700e3);
+  std::mt19937_64 rng(big_radii ? 3 : 5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<double> radii;
+  std::vector<ObjectStatus> statuses;
+  std::vector<ObjectId> ids;
+  for (std::size_t k = 0; k < kObjects; ++k) {
+    radii.push_back(big_radii ? 600.0 + 1400.0 * u(rng) : 0.05 + 3.0 * u(rng));
+    statuses.push_back(k % 5 == 0 ? ObjectStatus::kActive : ObjectStatus::kPassive);
+    ids.push_back(100000 - 37 * k);  // ids fall as indices rise: "lower id first" is exercised
+  }
+  r.population = testing::population_from_states(states, radii, statuses, ids);
+  r.snaps = testing::kepler_snapshots(states, kDt, kSteps);
+  return r;
+}
+
+double radius_of(const Population& p, ObjectId id) {
+  return p.radius_m[*p.index_of(id)];
+}
+
+void expect_matches_reference(const RandomLeo& scenario, const ConjunctionSettings& settings) {
+  const auto events = testing::run_detector(scenario.population, scenario.snaps, kDt, settings);
+  const testing::BruteForceReference reference(scenario.population, scenario.snaps, kDt);
+  const auto expected = reference.run(settings, 100);
+  std::cout << "  detector " << events.size() << " events, reference " << expected.size() << "\n";
+  EXPECT_GE(expected.size(), 200u) << "the scenario should give hundreds of events";
+
+  // Match by pair and time; minima within 1e-6 m of the threshold may fall either side of it.
+  std::vector<bool> used(events.size(), false);
+  std::size_t matched = 0, borderline = 0;
+  for (const auto& ref : expected) {
+    bool found = false;
+    for (std::size_t k = 0; k < events.size(); ++k) {
+      const Encounter& e = events[k];
+      if (used[k] || e.id1 != ref.id1 || e.id2 != ref.id2 || std::fabs(e.tca_s - ref.tca_s) > 1e-3) continue;
+      used[k] = found = true;
+      EXPECT_NEAR(e.miss_distance_m, ref.distance_m, 0.01)
+          << ref.id1 << "-" << ref.id2 << " at " << ref.tca_s;
+      ++matched;
+      break;
+    }
+    if (!found) {
+      if (std::fabs(ref.distance_m - ref.threshold_m) < 1e-6) {
+        ++borderline;
+        continue;
+      }
+      ADD_FAILURE() << "missed: " << ref.id1 << "-" << ref.id2 << " at " << ref.tca_s << " s, "
+                    << ref.distance_m << " m (threshold " << ref.threshold_m << ")";
+    }
+  }
+  for (std::size_t k = 0; k < events.size(); ++k) {
+    if (used[k]) continue;
+    const Encounter& e = events[k];
+    const double h = settings.screening_distance_m > 0.0
+                         ? settings.screening_distance_m
+                         : settings.kappa_max * (radius_of(scenario.population, e.id1) +
+                                                 radius_of(scenario.population, e.id2));
+    if (std::fabs(e.miss_distance_m - h) < 1e-6) continue;
+    ADD_FAILURE() << "extra: " << e.id1 << "-" << e.id2 << " at " << e.tca_s << " s, " << e.miss_distance_m
+                  << " m";
+  }
+  EXPECT_EQ(matched + borderline, expected.size());
+  // Canonical order.
+  for (std::size_t k = 1; k < events.size(); ++k) EXPECT_FALSE(canonical_less(events[k], events[k - 1]));
+}
+
+TEST(Reference, ScreeningDistanceFindsEveryMinimumAndNothingElse) {
+  ConjunctionSettings s;
+  s.screening_distance_m = 20e3;
+  expect_matches_reference(random_leo(false), s);
+}
+
+TEST(Reference, InflatedKappaFindsEveryMinimumAndNothingElse) {
+  ConjunctionSettings s;
+  s.kappa_max = 10.0;
+  expect_matches_reference(random_leo(true), s);
+}
+
+bool bitwise_equal(const Encounter& a, const Encounter& b) {
+  auto same = [](double x, double y) { return std::memcmp(&x, &y, sizeof x) == 0; };
+  bool eq = a.id1 == b.id1 && a.id2 == b.id2 && a.kind == b.kind && same(a.tca_s, b.tca_s) &&
+            same(a.miss_distance_m, b.miss_distance_m) && same(a.relative_speed_m_s, b.relative_speed_m_s) &&
+            same(a.kappa, b.kappa);
+  for (int c = 0; c < 3; ++c)
+    eq = eq && same(a.r1_m[c], b.r1_m[c]) && same(a.v1_m_s[c], b.v1_m_s[c]) && same(a.r2_m[c], b.r2_m[c]) &&
+         same(a.v2_m_s[c], b.v2_m_s[c]);
+  return eq;
+}
+
+TEST(Reference, BitwiseIdenticalForOneTwoAndFourThreads) {
+  const RandomLeo& scenario = random_leo(false);
+  for (NarrowPhase phase : {NarrowPhase::kHermite, NarrowPhase::kLinear}) {
+    ConjunctionSettings s;
+    s.screening_distance_m = 20e3;
+    s.narrow_phase = phase;
+    const int saved = omp_get_max_threads();
+    std::vector<std::vector<Encounter>> runs;
+    for (int threads : {1, 2, 4}) {
+      omp_set_num_threads(threads);
+      runs.push_back(testing::run_detector(scenario.population, scenario.snaps, kDt, s));
+    }
+    omp_set_num_threads(saved);
+    ASSERT_GT(runs[0].size(), 100u);
+    for (std::size_t r = 1; r < runs.size(); ++r) {
+      ASSERT_EQ(runs[r].size(), runs[0].size());
+      for (std::size_t k = 0; k < runs[0].size(); ++k)
+        ASSERT_TRUE(bitwise_equal(runs[r][k], runs[0][k])) << k;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace kessler
