@@ -13,7 +13,7 @@ echo "== 1/4 dependencies"
 deploy/install-deps.sh
 
 echo "== 2/4 build (Release)"
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DKESSLER_BUILD_TESTS=OFF >/dev/null
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j"$(nproc)" --target kesslerd kessler
 kessler="$root/build/bin/kessler"
 
