@@ -2,10 +2,12 @@
 // every format; results equal an in-process run of the same scenario; restarts, SIGKILL mid-run and
 // SIGTERM keep every run and event exactly once; reconnecting watchers get exactly the rest; bad
 // submissions are refused with the right status and the daemon keeps serving.
+#include <grpcpp/generic/generic_stub.h>
 #include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <future>
 #include <map>
 #include <set>
 #include <thread>
@@ -505,6 +507,29 @@ TEST(ServiceEndToEnd, StatusCodesForQueueLimitsCancelDeleteAndUnknownRuns) {
   auto unreachable = cli(dir, "runs", "KESSLER_SERVER=127.0.0.1:1");
   EXPECT_EQ(unreachable.exit_code, 1);
   EXPECT_NE(unreachable.err.find("UNAVAILABLE"), std::string::npos) << unreachable.err;
+}
+
+// The standard health service answers SERVING (what grpc_health_probe asks), through a generic call
+// since the health proto's stubs are not part of the build.
+TEST(ServiceEndToEnd, HealthServiceAnswersServing) {
+  TempDir dir;
+  Daemon daemon(dir.path() + "/k.db");
+  daemon.start();
+  grpc::GenericStub generic(grpc::CreateChannel(daemon.address(), grpc::InsecureChannelCredentials()));
+  grpc::ClientContext context;
+  grpc::Slice empty(std::string{});
+  grpc::ByteBuffer request(&empty, 1);  // HealthCheckRequest{service: ""}: the whole server
+  grpc::ByteBuffer response;
+  std::promise<grpc::Status> done;
+  generic.UnaryCall(&context, "/grpc.health.v1.Health/Check", grpc::StubOptions(), &request, &response,
+                    [&](grpc::Status status) { done.set_value(status); });
+  grpc::Status status = done.get_future().get();
+  ASSERT_TRUE(status.ok()) << status.error_message();
+  std::vector<grpc::Slice> slices;
+  ASSERT_TRUE(response.Dump(&slices).ok());
+  std::string bytes;
+  for (const auto& slice : slices) bytes.append(reinterpret_cast<const char*>(slice.begin()), slice.size());
+  EXPECT_EQ(bytes, std::string("\x08\x01", 2));  // HealthCheckResponse{status: SERVING}
 }
 
 }  // namespace
