@@ -23,6 +23,8 @@ grpc::Status to_status(const ServiceError& e) {
       return {grpc::StatusCode::FAILED_PRECONDITION, e.what()};
     case ServiceError::Code::kResourceExhausted:
       return {grpc::StatusCode::RESOURCE_EXHAUSTED, e.what()};
+    case ServiceError::Code::kUnavailable:
+      return {grpc::StatusCode::UNAVAILABLE, e.what()};
     default:
       return {grpc::StatusCode::INTERNAL, e.what()};
   }

@@ -401,7 +401,13 @@ void RunManager::watch(const v1::WatchRunRequest& request,
   } else if (!send_state(state_of(run))) {
     return;
   }
-  while (!stop() && !stopping_) {
+  // The daemon stopping ends the stream as UNAVAILABLE, so clients reconnect after the restart.
+  auto check_stopping = [&] {
+    if (stopping_)
+      throw ServiceError(Code::kUnavailable, "kesslerd is shutting down; reconnect with after_seq");
+  };
+  while (!stop()) {
+    check_stopping();
     std::shared_ptr<EventHub> h = hub(id);
     if (!h) {
       // Not live: queued, ended, or between the two. The store has every event.

@@ -22,7 +22,14 @@ namespace kessler::server {
 
 // A request the daemon refuses, with the status it means.
 struct ServiceError : std::runtime_error {
-  enum class Code { kInvalidArgument, kNotFound, kFailedPrecondition, kResourceExhausted, kInternal };
+  enum class Code {
+    kInvalidArgument,
+    kNotFound,
+    kFailedPrecondition,
+    kResourceExhausted,
+    kUnavailable,
+    kInternal
+  };
   ServiceError(Code c, const std::string& message, std::string path = {})
       : std::runtime_error(message), code(c), field_path(std::move(path)) {}
   Code code;

@@ -135,6 +135,10 @@ std::string event_text(const v1::RunEvent& e, const std::string& start_epoch) {
   return buf;
 }
 
+bool is_ended(v1::RunState s) {
+  return s == v1::RUN_STATE_SUCCEEDED || s == v1::RUN_STATE_FAILED || s == v1::RUN_STATE_CANCELLED;
+}
+
 // Follows the run to its end, reconnecting after lost connections from the last sequence number seen.
 int follow_run(RemoteClient& client, std::int64_t run_id, const WatchOptions& options) {
   v1::Run run;
@@ -193,7 +197,13 @@ int follow_run(RemoteClient& client, std::int64_t run_id, const WatchOptions& op
         view.print_event(event_text(e, start_epoch));
       return true;
     });
-    if (r.ok) break;
+    if (r.ok && is_ended(state)) break;
+    if (r.ok) {  // the stream ended before the run did: reconnect as after a lost connection
+      r.ok = false;
+      r.code = 14;
+      r.code_name = "UNAVAILABLE";
+      r.message = "the event stream ended before the run";
+    }
     if (!r.unavailable() ||
         std::chrono::steady_clock::now() - last_contact > std::chrono::duration<double>(options.retry_s)) {
       view.finish();
