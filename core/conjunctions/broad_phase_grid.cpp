@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <omp.h>
+
 namespace kessler {
 namespace {
 
@@ -10,6 +12,8 @@ constexpr int kAxisBits = 21;
 constexpr std::int64_t kAxisOffset = std::int64_t{1} << (kAxisBits - 1);
 constexpr double kAxisLimit = static_cast<double>(kAxisOffset - 2);  // keeps neighbours in range
 constexpr double kRoundingMargin_m = 1e-3;
+// The counting sort's coarse partitions (top bits of the bucket): at most 2^8.
+constexpr int kMaxCoarseBits = 8;
 
 // Cell index along one axis, clamped (clamping keeps neighbours neighbours; NaN goes to the edge).
 inline std::uint64_t axis_cell(double coordinate_m, double inverse_cell_m) {
@@ -50,48 +54,12 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
   bucket_.resize(n);
   oversized_flag_.resize(n);
   order_.resize(n);
+  scratch_.resize(n);
   slot_box_.resize(6 * n);
   slot_key_.resize(n);
 
-  // Grown boxes and the largest edge.
-  double largest_edge = 0.0;
-  const bool hermite = motion == NarrowPhase::kHermite;
-  const std::int64_t count = static_cast<std::int64_t>(n);
-#pragma omp parallel for schedule(static) reduction(max : largest_edge) if (n >= kParallelMinimumObjects)
-  for (std::int64_t ii = 0; ii < count; ++ii) {
-    const std::size_t i = static_cast<std::size_t>(ii);
-    const double grow = share_m[i] + kRoundingMargin_m;
-    const double p0[3] = {s0.x[i], s0.y[i], s0.z[i]};
-    const double v0[3] = {s0.vx[i], s0.vy[i], s0.vz[i]};
-    const double p1[3] = {s1.x[i], s1.y[i], s1.z[i]};
-    const double v1[3] = {s1.vx[i], s1.vy[i], s1.vz[i]};
-    double lo[3], hi[3], edge = 0.0;
-    for (int k = 0; k < 3; ++k) {
-      if (hermite) {
-        min_max4(p0[k], p0[k] + dt * v0[k] / 3.0, p1[k] - dt * v1[k] / 3.0, p1[k], lo[k], hi[k]);
-      } else {
-        const double e = p0[k] + dt * v0[k];
-        lo[k] = std::min(p0[k], e);
-        hi[k] = std::max(p0[k], e);
-      }
-      lo[k] -= grow;
-      hi[k] += grow;
-      edge = std::max(edge, hi[k] - lo[k]);
-    }
-    const bool oversized =
-        !(edge <= oversize_m) || !std::isfinite(lo[0] + lo[1] + lo[2] + hi[0] + hi[1] + hi[2]);
-    oversized_flag_[i] = oversized;
-    if (!oversized) largest_edge = std::max(largest_edge, edge);
-    lo_x_[i] = lo[0];
-    lo_y_[i] = lo[1];
-    lo_z_[i] = lo[2];
-    hi_x_[i] = hi[0];
-    hi_y_[i] = hi[1];
-    hi_z_[i] = hi[2];
-  }
-  cell_size_m_ = std::max(largest_edge, 1.0) * (1.0 + 1e-9);
-  const double inverse_cell = 1.0 / cell_size_m_;
-
+  // At least 4 buckets per object (load <= 1/4: few hash collisions; the occupancy bitmap makes empty
+  // buckets cheap); up to 256 coarse partitions for the sort, each of at least 64 buckets.
   std::size_t buckets = 64;
   int bits = 6;
   while (buckets < 4 * n) {
@@ -99,48 +67,147 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
     ++bits;
   }
   hash_shift_ = 64 - bits;
-#pragma omp parallel for schedule(static) if (n >= kParallelMinimumObjects)
-  for (std::int64_t ii = 0; ii < count; ++ii) {
-    const std::size_t i = static_cast<std::size_t>(ii);
-    const std::uint64_t key = (axis_cell(lo_x_[i], inverse_cell) << (2 * kAxisBits)) |
-                              (axis_cell(lo_y_[i], inverse_cell) << kAxisBits) |
-                              axis_cell(lo_z_[i], inverse_cell);
-    key_[i] = key;
-    bucket_[i] = static_cast<std::uint32_t>(bucket_of(key));
-  }
+  const int coarse_bits = std::min(kMaxCoarseBits, bits - 6);
+  const std::size_t partitions = std::size_t{1} << coarse_bits;
+  const int fine_bits = bits - coarse_bits;
+  const std::size_t fine_buckets = std::size_t{1} << fine_bits;
+  bucket_start_.resize(buckets + 1);
+  occupied_.resize(buckets / 64);
+  const std::size_t max_threads = static_cast<std::size_t>(omp_get_max_threads());
+  coarse_count_.resize(max_threads * partitions);
+  thread_oversized_.resize(max_threads);
+  partition_start_.resize(partitions + 1);
 
-  // Counting sort by bucket (stable: population order inside a bucket), oversized objects left out.
-  oversized_.clear();
-  for (std::size_t i = 0; i < n; ++i)
-    if (oversized_flag_[i]) oversized_.push_back(static_cast<std::uint32_t>(i));
+  const bool hermite = motion == NarrowPhase::kHermite;
+  const std::int64_t count = static_cast<std::int64_t>(n);
+  double largest_edge = 0.0;
+  // One parallel region, five barriers: boxes; cell keys and coarse counts; layout; scatter into
+  // coarse partitions; sort of each partition by fine bucket.
+#pragma omp parallel if (n >= kParallelMinimumObjects)
+  {
+    // Grown boxes and the largest edge (max is exact: the same for any thread count).
+#pragma omp for schedule(static) reduction(max : largest_edge)
+    for (std::int64_t ii = 0; ii < count; ++ii) {
+      const std::size_t i = static_cast<std::size_t>(ii);
+      const double grow = share_m[i] + kRoundingMargin_m;
+      const double p0[3] = {s0.x[i], s0.y[i], s0.z[i]};
+      const double v0[3] = {s0.vx[i], s0.vy[i], s0.vz[i]};
+      const double p1[3] = {s1.x[i], s1.y[i], s1.z[i]};
+      const double v1[3] = {s1.vx[i], s1.vy[i], s1.vz[i]};
+      double lo[3], hi[3], edge = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        if (hermite) {
+          min_max4(p0[k], p0[k] + dt * v0[k] / 3.0, p1[k] - dt * v1[k] / 3.0, p1[k], lo[k], hi[k]);
+        } else {
+          const double e = p0[k] + dt * v0[k];
+          lo[k] = std::min(p0[k], e);
+          hi[k] = std::max(p0[k], e);
+        }
+        lo[k] -= grow;
+        hi[k] += grow;
+        edge = std::max(edge, hi[k] - lo[k]);
+      }
+      const bool oversized =
+          !(edge <= oversize_m) || !std::isfinite(lo[0] + lo[1] + lo[2] + hi[0] + hi[1] + hi[2]);
+      oversized_flag_[i] = oversized;
+      if (!oversized) largest_edge = std::max(largest_edge, edge);
+      lo_x_[i] = lo[0];
+      lo_y_[i] = lo[1];
+      lo_z_[i] = lo[2];
+      hi_x_[i] = hi[0];
+      hi_y_[i] = hi[1];
+      hi_z_[i] = hi[2];
+    }
+    const double cell = std::max(largest_edge, 1.0) * (1.0 + 1e-9);
+    const double inverse_cell = 1.0 / cell;
+
+    // Counting sort by bucket, stable (population order inside a bucket, whatever the thread count),
+    // oversized objects left out: each thread counts its contiguous chunk of objects per coarse
+    // partition (the bucket's top bits); partitions are laid out in order, chunks in order inside them;
+    // then each partition is sorted by its fine buckets on its own.
+    const std::size_t threads = static_cast<std::size_t>(omp_get_num_threads());
+    const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
+    const std::size_t begin = n * t / threads, end = n * (t + 1) / threads;
+    std::uint32_t* mine = &coarse_count_[t * partitions];
+    std::fill(mine, mine + partitions, 0u);
+    std::vector<std::uint32_t>& my_oversized = thread_oversized_[t];
+    my_oversized.clear();
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::uint64_t key = (axis_cell(lo_x_[i], inverse_cell) << (2 * kAxisBits)) |
+                                (axis_cell(lo_y_[i], inverse_cell) << kAxisBits) |
+                                axis_cell(lo_z_[i], inverse_cell);
+      key_[i] = key;
+      const std::uint32_t b = static_cast<std::uint32_t>(bucket_of(key));
+      bucket_[i] = b;
+      if (oversized_flag_[i])
+        my_oversized.push_back(static_cast<std::uint32_t>(i));
+      else
+        ++mine[b >> fine_bits];
+    }
+#pragma omp barrier
+#pragma omp single
+    {
+      cell_size_m_ = cell;
+      oversized_.clear();
+      for (std::size_t u = 0; u < threads; ++u)
+        oversized_.insert(oversized_.end(), thread_oversized_[u].begin(), thread_oversized_[u].end());
+      std::uint32_t running = 0;
+      for (std::size_t p = 0; p < partitions; ++p) {
+        partition_start_[p] = running;
+        for (std::size_t u = 0; u < threads; ++u) {
+          const std::uint32_t c = coarse_count_[u * partitions + p];
+          coarse_count_[u * partitions + p] = running;  // becomes the write cursor
+          running += c;
+        }
+      }
+      partition_start_[partitions] = running;
+      bucket_start_[buckets] = running;
+    }
+    for (std::size_t i = begin; i < end; ++i)
+      if (!oversized_flag_[i]) scratch_[mine[bucket_[i] >> fine_bits]++] = static_cast<std::uint32_t>(i);
+#pragma omp barrier
+#pragma omp for schedule(dynamic, 4)
+    for (std::int64_t pp = 0; pp < static_cast<std::int64_t>(partitions); ++pp) {
+      const std::size_t p = static_cast<std::size_t>(pp);
+      const std::size_t first_bucket = p * fine_buckets;
+      std::uint32_t* starts = &bucket_start_[first_bucket];
+      std::fill(starts, starts + fine_buckets, 0u);
+      std::fill(&occupied_[first_bucket / 64], &occupied_[first_bucket / 64] + fine_buckets / 64, 0ull);
+      const std::uint32_t lo = partition_start_[p], hi = partition_start_[p + 1];
+      for (std::uint32_t m = lo; m < hi; ++m) {
+        const std::uint32_t b = bucket_[scratch_[m]];
+        ++starts[b - first_bucket];
+        occupied_[b >> 6] |= std::uint64_t{1} << (b & 63);
+      }
+      std::uint32_t running = lo;
+      for (std::size_t f = 0; f < fine_buckets; ++f) {
+        const std::uint32_t c = starts[f];
+        starts[f] = running;
+        running += c;
+      }
+      // Scatter with the starts as cursors, then shift them back.
+      for (std::uint32_t m = lo; m < hi; ++m) {
+        const std::uint32_t i = scratch_[m];
+        order_[starts[bucket_[i] - first_bucket]++] = i;
+      }
+      for (std::size_t f = fine_buckets; f-- > 1;) starts[f] = starts[f - 1];
+      starts[0] = lo;
+      // The partition's slots: boxes and keys in slot order for the pair search.
+      for (std::uint32_t k = lo; k < hi; ++k) {
+        const std::uint32_t i = order_[k];
+        double* box = &slot_box_[6 * std::size_t{k}];
+        box[0] = lo_x_[i];
+        box[1] = lo_y_[i];
+        box[2] = lo_z_[i];
+        box[3] = hi_x_[i];
+        box[4] = hi_y_[i];
+        box[5] = hi_z_[i];
+        slot_key_[k] = key_[i];
+      }
+    }
+  }
   const std::size_t slots = n - oversized_.size();
   order_.resize(slots);
-  slot_box_.resize(6 * slots);
-  slot_key_.resize(slots);
-  bucket_start_.assign(buckets + 1, 0);
-  for (std::size_t i = 0; i < n; ++i)
-    if (!oversized_flag_[i]) ++bucket_start_[bucket_[i] + 1];
-  for (std::size_t b = 0; b < buckets; ++b) bucket_start_[b + 1] += bucket_start_[b];
-  {
-    std::vector<std::uint32_t>& next = slot_cursor_;
-    next.assign(bucket_start_.begin(), bucket_start_.end() - 1);
-    for (std::size_t i = 0; i < n; ++i)
-      if (!oversized_flag_[i]) order_[next[bucket_[i]]++] = static_cast<std::uint32_t>(i);
-  }
-  const std::int64_t slot_count = static_cast<std::int64_t>(slots);
-#pragma omp parallel for schedule(static) if (n >= kParallelMinimumObjects)
-  for (std::int64_t kk = 0; kk < slot_count; ++kk) {
-    const std::size_t k = static_cast<std::size_t>(kk);
-    const std::uint32_t i = order_[k];
-    double* box = &slot_box_[6 * k];
-    box[0] = lo_x_[i];
-    box[1] = lo_y_[i];
-    box[2] = lo_z_[i];
-    box[3] = hi_x_[i];
-    box[4] = hi_y_[i];
-    box[5] = hi_z_[i];
-    slot_key_[k] = key_[i];
-  }
 }
 
 void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
@@ -161,6 +228,9 @@ void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
 void BroadPhaseGrid::pair_with_cell(std::size_t k, std::uint64_t key, bool same_cell,
                                     std::vector<CandidatePair>& out) const {
   const std::size_t b = bucket_of(key);
+  // Most neighbour cells are empty: the occupancy bitmap (a few kB, in L1) answers without touching
+  // the bucket table.
+  if (!same_cell && !((occupied_[b >> 6] >> (b & 63)) & 1u)) return;
   std::size_t first = bucket_start_[b];
   const std::size_t last = bucket_start_[b + 1];
   if (same_cell) first = k + 1;

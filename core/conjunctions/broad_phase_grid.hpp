@@ -90,10 +90,13 @@ class BroadPhaseGrid {
   std::vector<char> oversized_flag_;
   std::vector<std::uint32_t> oversized_;     // population indices, ascending
   std::vector<std::uint32_t> bucket_start_;  // size buckets + 1
+  std::vector<std::uint64_t> occupied_;      // one bit per bucket
   std::vector<std::uint32_t> order_;         // slot -> population index
   std::vector<double> slot_box_;             // 6 per slot: lo x, y, z, hi x, y, z
   std::vector<std::uint64_t> slot_key_;
-  std::vector<std::uint32_t> slot_cursor_;  // counting-sort scratch
+  // Counting-sort scratch.
+  std::vector<std::uint32_t> scratch_, coarse_count_, partition_start_;
+  std::vector<std::vector<std::uint32_t>> thread_oversized_;
 };
 
 }  // namespace kessler

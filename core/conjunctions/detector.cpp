@@ -90,35 +90,34 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
   const int threads = n >= kParallelMinimumObjects ? omp_get_max_threads() : 1;
   candidates_.resize(static_cast<std::size_t>(threads));
   events_.resize(static_cast<std::size_t>(threads));
+  collected_at_.assign(static_cast<std::size_t>(threads), t_begin);
+  // Cleared here: OpenMP may give the region fewer threads than asked for.
+  for (auto& list : candidates_) list.clear();
+  for (auto& list : events_) list.clear();
   const std::size_t slots = grid_.slot_count();
+  // One region, no barrier between the phases: each thread collects its share of candidate pairs into
+  // its own compact array, then runs the narrow phase on them.
 #pragma omp parallel num_threads(threads)
   {
-    const int t = omp_get_thread_num();
-    std::vector<CandidatePair>& mine = candidates_[static_cast<std::size_t>(t)];
-    mine.clear();
+    const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
+    std::vector<CandidatePair>& mine = candidates_[t];
     // Slot blocks handed out dynamically: dense regions of the sky cost more.
     constexpr std::int64_t kBlock = 256;
     const std::int64_t blocks = static_cast<std::int64_t>((slots + kBlock - 1) / kBlock);
-#pragma omp for schedule(dynamic, 4)
+#pragma omp for schedule(dynamic, 4) nowait
     for (std::int64_t b = 0; b < blocks; ++b) {
       const std::size_t begin = static_cast<std::size_t>(b * kBlock);
       grid_.collect_pairs(begin, std::min(slots, begin + static_cast<std::size_t>(kBlock)), mine);
     }
     const std::int64_t oversized = static_cast<std::int64_t>(grid_.oversized_count());
-#pragma omp for schedule(dynamic, 1)
+#pragma omp for schedule(dynamic, 1) nowait
     for (std::int64_t o = 0; o < oversized; ++o)
       grid_.collect_oversized_pairs(static_cast<std::size_t>(o), static_cast<std::size_t>(o) + 1, mine);
-  }
-  const double t_grid = omp_get_wtime();
-
-#pragma omp parallel num_threads(threads)
-  {
-    const int t = omp_get_thread_num();
-    std::vector<Encounter>& found = events_[static_cast<std::size_t>(t)];
-    found.clear();
-    const std::vector<CandidatePair>& mine = candidates_[static_cast<std::size_t>(t)];
+    collected_at_[t] = omp_get_wtime();
+    std::vector<Encounter>& found = events_[t];
     for (const CandidatePair& pair : mine) examine_pair(population, step, pair.i, pair.j, found);
   }
+  const double t_grid = *std::max_element(collected_at_.begin(), collected_at_.end());
   std::size_t total = 0, pairs = 0;
   for (int t = 0; t < threads; ++t) {
     total += events_[static_cast<std::size_t>(t)].size();

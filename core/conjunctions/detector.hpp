@@ -25,7 +25,8 @@ class ConjunctionDetector {
   // identical for any thread count.
   void scan(const Population& population, const StepEnds& step, std::vector<Encounter>& out);
 
-  // Seconds of the last scan spent in the broad phase (grid build and candidate pairs) and the rest.
+  // Seconds of the last scan spent in the broad phase (grid build and candidate pairs, until the last
+  // thread has its candidates) and the rest (narrow phase, merge, sort).
   double last_grid_s() const { return last_grid_s_; }
   double last_narrow_s() const { return last_narrow_s_; }
   // Candidate pairs the broad phase produced in the last scan.
@@ -46,6 +47,7 @@ class ConjunctionDetector {
   std::vector<double> shares_;                          // per object: its share of the threshold [m]
   std::vector<std::vector<CandidatePair>> candidates_;  // per thread
   std::vector<std::vector<Encounter>> events_;          // per thread
+  std::vector<double> collected_at_;                    // per thread: when its candidates were complete
 };
 
 }  // namespace kessler
