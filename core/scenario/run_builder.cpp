@@ -1,6 +1,5 @@
 // From a validated scenario to a ready-to-run Simulation: the population source, the propagator and the
-// simulation parts. The synthetic generator and the state-table reader are wired behind __has_include
-// guards until they land on main.
+// simulation parts.
 #include "core/scenario/run_builder.hpp"
 
 #include <exception>
@@ -9,23 +8,12 @@
 #include "core/integration/yoshida_propagator.hpp"
 #include "core/population/bundled_datasets.hpp"
 #include "core/population/leo19647.hpp"
-#include "core/sgp4/sgp4_propagator.hpp"
-
-#if __has_include("core/population/synthetic.hpp")
-#define KESSLER_HAVE_SYNTHETIC 1
-#include "core/population/synthetic.hpp"
-#endif
-#if __has_include("core/population/state_table.hpp")
-#define KESSLER_HAVE_STATE_TABLE 1
 #include "core/population/state_table.hpp"
-#endif
+#include "core/population/synthetic.hpp"
+#include "core/sgp4/sgp4_propagator.hpp"
 
 namespace kessler {
 namespace {
-
-FieldError not_built(const std::string& path, const std::string& what) {
-  return FieldError{path, what + " is not part of this build"};
-}
 
 // The population a scenario names and, for catalogs, the element sets SGP4 needs (by id).
 struct LoadedPopulation {
@@ -114,7 +102,6 @@ std::optional<FieldError> load_population(const v1::Scenario& scenario, const Si
                   "population.catalog", out);
     }
     case v1::PopulationSource::kSynthetic: {
-#ifdef KESSLER_HAVE_SYNTHETIC
       const v1::SyntheticPopulation& s = source.synthetic();
       SyntheticOptions o;
       o.objects = s.objects();
@@ -128,18 +115,11 @@ std::optional<FieldError> load_population(const v1::Scenario& scenario, const Si
         return FieldError{"population.synthetic", e.what()};
       }
       return std::nullopt;
-#else
-      return not_built("population.synthetic", "the synthetic generator");
-#endif
     }
     case v1::PopulationSource::kStateTable:
-#ifdef KESSLER_HAVE_STATE_TABLE
       return take(read_state_table(source.state_table(), ingest_rules_of(source), config.start_epoch,
                                    "population.state_table"),
                   "population.state_table", out);
-#else
-      return not_built("population.state_table", "the state-table reader");
-#endif
     default:
       return FieldError{"population", "a population source is required"};
   }
