@@ -216,6 +216,25 @@ TEST(Omm, XmlFromCelesTrakAndTheCcsdsExample) {
                {-30432.377622, 29155.531518, 1820.893687}, {-2.122285689, -2.220702779, 0.096457032});
 }
 
+TEST(BadInput, EveryPrefixOfEveryFormatParsesWithoutCrashing) {
+  // Cut texts anywhere: readers must report, not crash or read out of bounds (run under ASan too).
+  const std::string texts[] = {join_crlf(real_lines()), data("sgp4/sample_omm.csv"),
+                               data("sgp4/sample_omm.json"), data("ccsds/OMMExample1.txt"),
+                               data("sgp4/sample_omm.xml")};
+  std::size_t parsed_sets = 0;
+  for (const std::string& full : texts) {
+    for (std::size_t n = 0; n <= full.size(); ++n) {
+      const std::string_view cut(full.data(), n);
+      const ElementSetText r = parse_catalog_text(cut, CatalogFormat::kDetect, "cut");
+      parsed_sets += r.sets.size();
+      for (const auto& p : r.problems) ASSERT_FALSE(p.message.empty());
+      (void)parse_satcat_csv(cut, "cut");
+      (void)parse_active_list(cut, "cut", nullptr);
+    }
+  }
+  EXPECT_GT(parsed_sets, 0u);
+}
+
 TEST(Formats, DetectedFromTheText) {
   EXPECT_EQ(detect_catalog_format(data("sgp4/sample_omm.xml")), CatalogFormat::kOmmXml);
   EXPECT_EQ(detect_catalog_format(data("sgp4/sample_omm.csv")), CatalogFormat::kOmmCsv);
