@@ -1,4 +1,4 @@
-// kessler-bench run: a scenario's main loop for --steps steps, the paper's runtime breakdown (integrator,
+// kessler-bench scenario: a scenario's main loop for --steps steps, the paper's runtime breakdown (integrator,
 // burn-up, grid, detection, output, checkpoint) as medians over --repeats; the population is built
 // (ingested) once per repeat, outside the timing. Checkpoints off unless --checkpoint-every N.
 #include <algorithm>
@@ -34,14 +34,14 @@ int run(int argc, char** argv) {
   const int repeats = static_cast<int>(args.get_int("--repeats", 3));
   const std::int64_t checkpoint_every = args.get_int("--checkpoint-every", 0);
   if (steps <= 0 || threads <= 0 || repeats <= 0 || checkpoint_every < 0) {
-    std::cerr << "kessler-bench run: --steps, --threads, --repeats must be positive\n";
+    std::cerr << "kessler-bench scenario: --steps, --threads, --repeats must be positive\n";
     return 2;
   }
   v1::Scenario scenario;
   auto error = load_scenario_file(path, scenario);
   if (!error) error = validate_scenario(scenario);
   if (error) {
-    std::cerr << "kessler-bench run: " << path << ": " << error->message() << '\n';
+    std::cerr << "kessler-bench scenario: " << path << ": " << error->message() << '\n';
     return 2;
   }
   const double dt = scenario.has_dt_s() ? scenario.dt_s() : 10.0;
@@ -58,7 +58,7 @@ int run(int argc, char** argv) {
     FieldError build_error;
     auto sim = build_simulation(scenario, options, &build_error);
     if (!sim) {
-      std::cerr << "kessler-bench run: " << build_error.message() << '\n';
+      std::cerr << "kessler-bench scenario: " << build_error.message() << '\n';
       return 1;
     }
     RunControl control;
@@ -79,7 +79,7 @@ int run(int argc, char** argv) {
   }
   const double object_steps = static_cast<double>(last.objects_initial) * static_cast<double>(last.steps);
   JsonLine()
-      .add("benchmark", std::string("run"))
+      .add("benchmark", std::string("scenario"))
       .add("scenario", path)
       .add("objects", static_cast<std::int64_t>(last.objects_initial))
       .add("steps", last.steps)
@@ -103,7 +103,7 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-KESSLER_BENCH("run",
+KESSLER_BENCH("scenario",
               "a scenario's main loop, per-phase medians (the paper's runtime breakdown); --scenario FILE "
               "--steps S --threads T [--repeats R --checkpoint-every N]",
               run);
