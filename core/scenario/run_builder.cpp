@@ -30,6 +30,7 @@ IngestRules ingest_rules_of(const v1::PopulationSource& source) {
   if (r.has_max_apogee_km()) rules.max_apogee_km = r.max_apogee_km();
   rules.exclude_names.assign(r.exclude_names().begin(), r.exclude_names().end());
   rules.default_exclusions = !r.no_default_exclusions();
+  rules.drop_docked = !r.keep_docked();
   rules.object_types.assign(r.object_types().begin(), r.object_types().end());
   if (r.has_max_epoch_after_start_days()) rules.max_epoch_after_start_days = r.max_epoch_after_start_days();
   if (r.has_small_radius_mean_m()) rules.sizes.small.mean_m = r.small_radius_mean_m();
