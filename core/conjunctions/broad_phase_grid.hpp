@@ -24,9 +24,11 @@
 // make every pair a neighbour. They are kept out of the grid and tested against every object instead
 // (O(N) each), so one bad object costs O(N), not O(N^2).
 //
-// Cells are hashed (an occupied cell per object at most, in a table of a power of two >= 4 N buckets)
-// and objects are ordered by bucket with a counting sort, so memory and time stay O(N) whatever the
-// domain's size.
+// Cells are hashed into a table of a power of two >= 4 N buckets: a hash of the cell's (x, y) row plus
+// its z index, so the cells along z are consecutive buckets and the 13 forward neighbours are 5 bucket
+// ranges (own cell and z + 1; z - 1..z + 1 of four neighbouring rows); an occupancy bitmap (1 bit per
+// bucket, in L1) skips empty ones. Objects are ordered by bucket with a parallel, stable counting sort,
+// so memory and time stay O(N) whatever the domain's size and the result never depends on threads.
 #pragma once
 
 #include <cstddef>
