@@ -16,7 +16,7 @@ std::vector<BurnUp> find_burn_ups(const Population& population, double min_altit
   const double* z = s.z.data();
   char* flag = flags.data();
   // Flags in parallel (each depends on its object only), events collected in population order.
-#pragma omp parallel for schedule(static) if (n >= 4096)
+#pragma omp parallel for schedule(static) if (n >= 100000)
   for (long i = 0; i < static_cast<long>(n); ++i) {
     const double altitude =
         std::sqrt(x[i] * x[i] + y[i] * y[i] + z[i] * z[i]) - constants::kEarthEquatorialRadius_m;

@@ -1,3 +1,9 @@
+// The step loop may evaluate both sides of a select (if-conversion) only if floating-point operations
+// are assumed not to trap; without that, GCC vectorises it only where AVX-512 masks exist. This changes
+// no value (IEEE results are the same; only exception flags could differ, and the core reads none), so
+// SIMD and scalar paths still give identical bits (tested).
+#pragma GCC optimize("no-trapping-math")
+
 #include "core/integration/yoshida_propagator.hpp"
 
 #include <cmath>
@@ -26,12 +32,21 @@ void yoshida_step(const StepArrays& s, std::size_t n, const ForceInstant& f1, co
   const double c1 = YoshidaPropagator::kC1 * dt, c2 = YoshidaPropagator::kC2 * dt;
   const double d1 = YoshidaPropagator::kD1 * dt, d2 = YoshidaPropagator::kD2 * dt;
   const long count = static_cast<long>(n);
+  // Local pointers: the loop must not re-read them through `s` (a store could alias it in principle).
+  double* __restrict px = s.x;
+  double* __restrict py = s.y;
+  double* __restrict pz = s.z;
+  double* __restrict pvx = s.vx;
+  double* __restrict pvy = s.vy;
+  double* __restrict pvz = s.vz;
+  const double* __restrict pcda = s.drag_area_to_mass;
+  const double* __restrict pam = s.srp_area_to_mass;
 // Tiny populations (tests, tools) run on the calling thread: a team costs more than it saves.
 #pragma omp parallel for simd schedule(static) num_threads(threads) if (count >= 512)
   for (long i = 0; i < count; ++i) {
-    double x = s.x[i], y = s.y[i], z = s.z[i];
-    double vx = s.vx[i], vy = s.vy[i], vz = s.vz[i];
-    const double cda = s.drag_area_to_mass[i], am = s.srp_area_to_mass[i];
+    double x = px[i], y = py[i], z = pz[i];
+    double vx = pvx[i], vy = pvy[i], vz = pvz[i];
+    const double cda = pcda[i], am = pam[i];
     double ax, ay, az;
     x += c1 * vx;
     y += c1 * vy;
@@ -57,12 +72,12 @@ void yoshida_step(const StepArrays& s, std::size_t n, const ForceInstant& f1, co
     x += c1 * vx;
     y += c1 * vy;
     z += c1 * vz;
-    s.x[i] = x;
-    s.y[i] = y;
-    s.z[i] = z;
-    s.vx[i] = vx;
-    s.vy[i] = vy;
-    s.vz[i] = vz;
+    px[i] = x;
+    py[i] = y;
+    pz[i] = z;
+    pvx[i] = vx;
+    pvy[i] = vy;
+    pvz[i] = vz;
   }
 }
 
@@ -84,9 +99,12 @@ void YoshidaPropagator::step(Population& population, double t_start_s, double dt
     throw std::invalid_argument("YoshidaPropagator: population arrays differ in length");
   if (n == 0) return;
   // Sub-step times: after drift c1, after drifts c1 + c2 (= dt/2), after c1 + 2 c2 (= dt - c1).
-  const ForceInstant f1 = model_.instant(t_start_s + kC1 * dt_s);
-  const ForceInstant f2 = model_.instant(t_start_s + 0.5 * dt_s);
-  const ForceInstant f3 = model_.instant(t_start_s + (kC1 + 2.0 * kC2) * dt_s);
+  ForceInstant f1 = model_.instant(t_start_s + kC1 * dt_s);
+  ForceInstant f2 = model_.instant(t_start_s + 0.5 * dt_s);
+  ForceInstant f3 = model_.instant(t_start_s + (kC1 + 2.0 * kC2) * dt_s);
+  // No kick may change v_rel by more than a quarter through drag (drag.hpp): inactive above ~100 km.
+  const double drag_limit = kDragRateLimitPerKick / (std::abs(kW0) * dt_s);
+  f1.drag_rate_limit_per_s = f2.drag_rate_limit_per_s = f3.drag_rate_limit_per_s = drag_limit;
   StepArrays arrays{st.x.data(),
                     st.y.data(),
                     st.z.data(),

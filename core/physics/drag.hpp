@@ -1,5 +1,9 @@
 // Atmospheric drag with an atmosphere co-rotating with the Earth (Vallado sec. 8.6.2, eq. 8-29):
 //   a = -1/2 rho(h) (Cd A/m) |v_rel| v_rel,   v_rel = v - omega_E x r,   omega_E = (0, 0, omega_E) in TEME.
+// The factor k = 1/2 rho (Cd A/m) |v_rel| [1/s] is capped at rate_limit_per_s: an explicit integrator
+// with step dt is unstable once k dt approaches 1, which only happens deep in the atmosphere (below about
+// 100 km for Cd A/m = 1 and dt = 10 s), where objects have burnt up already. The cap keeps such states
+// bounded instead of exploding; above it the formula is exact (the default limit is infinite).
 #pragma once
 
 #include <cmath>
@@ -8,16 +12,20 @@
 
 namespace kessler {
 
-// rho [kg/m^3] at the object's altitude; drag_area_to_mass = Cd A/m [m^2/kg].
+// rho [kg/m^3] at the object's altitude; drag_area_to_mass = Cd A/m [m^2/kg]; rate_limit_per_s the cap
+// on 1/2 rho (Cd A/m) |v_rel| (infinity for none).
 [[gnu::always_inline]] inline void drag_acceleration(double rho_kg_m3, double drag_area_to_mass_m2_kg,
-                                                     double x, double y, double vx, double vy, double vz,
-                                                     double& ax, double& ay, double& az) {
+                                                     double rate_limit_per_s, double x, double y, double vx,
+                                                     double vy, double vz, double& ax, double& ay,
+                                                     double& az) {
   constexpr double w = constants::kEarthRotationRate_rad_s;
   const double vrx = vx + w * y;
   const double vry = vy - w * x;
   const double vrz = vz;
   const double speed = std::sqrt(vrx * vrx + vry * vry + vrz * vrz);
-  const double f = -0.5 * rho_kg_m3 * drag_area_to_mass_m2_kg * speed;
+  double rate = 0.5 * rho_kg_m3 * drag_area_to_mass_m2_kg * speed;
+  rate = rate < rate_limit_per_s ? rate : rate_limit_per_s;
+  const double f = -rate;
   ax = f * vrx;
   ay = f * vry;
   az = f * vrz;

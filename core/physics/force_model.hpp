@@ -7,6 +7,8 @@
 // A switched-off term has a zero coefficient, so it adds exactly zero.
 #pragma once
 
+#include <limits>
+
 #include <Eigen/Core>
 
 #include "core/physics/atmosphere.hpp"
@@ -35,7 +37,9 @@ struct ForceInstant {
   double cos_theta = 1.0;  // Earth rotation angle theta(t)
   double sin_theta = 0.0;
   double drag_scale = 0.0;  // 1 with drag on, 0 off
-  double srp_p_au2 = 0.0;   // P AU^2 [N], 0 with SRP off
+  // Cap on 1/2 rho (Cd A/m) |v_rel| [1/s] (drag.hpp); the propagator sets it from its step.
+  double drag_rate_limit_per_s = std::numeric_limits<double>::infinity();
+  double srp_p_au2 = 0.0;  // P AU^2 [N], 0 with SRP off
   SunGeometry sun;
   // Density table arrays (DensityTable::standard()).
   const double* ln_rho = nullptr;
@@ -65,7 +69,8 @@ template <AtmosphereModel kAtmosphere>
   gravity::c22_s22_acceleration(f.c22_mu_r2, f.s22_mu_r2, f.cos_theta, f.sin_theta, x, y, z, inv_r, cx, cy,
                                 cz);
   const double rho = atmosphere_density<kAtmosphere>(f, r - constants::kEarthEquatorialRadius_m);
-  drag_acceleration(rho, f.drag_scale * drag_area_to_mass, x, y, vx, vy, vz, dx, dy, dz);
+  drag_acceleration(rho, f.drag_scale * drag_area_to_mass, f.drag_rate_limit_per_s, x, y, vx, vy, vz, dx, dy,
+                    dz);
   srp_acceleration(f.srp_p_au2, f.sun, srp_area_to_mass, x, y, z, sx, sy, sz);
   // Small terms first, then the central term: a fixed order, the same in every path.
   ax = kx + (jx + cx + dx + sx);

@@ -26,7 +26,7 @@ struct SunGeometry {
   const double inv_d = 1.0 / std::sqrt(dx * dx + dy * dy + dz * dz);
   const double along = x * sun.ux + y * sun.uy + z * sun.uz;
   const double off_axis2 = x * x + y * y + z * z - along * along;
-  const bool lit = along >= 0.0 || off_axis2 >= sun.shadow_radius2_m2;
+  const bool lit = (along >= 0.0) | (off_axis2 >= sun.shadow_radius2_m2);  // no short-circuit: no branch
   const double f = lit ? p_au2 * srp_area_to_mass_m2_kg * inv_d * inv_d * inv_d : 0.0;
   ax = f * dx;
   ay = f * dy;

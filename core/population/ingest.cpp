@@ -54,6 +54,7 @@ CatalogFormat detect_catalog_format(std::string_view text) {
   const std::string_view head = text::trim(text.substr(0, 4096));
   if (head.empty()) return CatalogFormat::kTle;
   if (head.front() == '[' || head.front() == '{') return CatalogFormat::kOmmJson;
+  if (head.front() == '<') return CatalogFormat::kOmmXml;
   if (head.find("CCSDS_OMM_VERS") != std::string_view::npos) return CatalogFormat::kOmmKvn;
   const std::string first_line = text::upper(head.substr(0, head.find('\n')));
   if (first_line.find("MEAN_MOTION") != std::string::npos && first_line.find(',') != std::string::npos)

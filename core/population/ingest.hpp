@@ -1,4 +1,4 @@
-// Catalog ingest: element sets (TLE/3LE, OMM CSV/JSON/KVN) with an optional SATCAT and active list
+// Catalog ingest: element sets (TLE/3LE, OMM CSV/JSON/KVN/XML) with an optional SATCAT and active list
 // become a Population at the scenario's start epoch, by the paper's rules:
 //   1. parse every record (bad ones rejected with line and reason; strict mode refuses the catalog);
 //      element sets whose epoch lies more than max_epoch_after_start_days after the start are rejected;
@@ -25,7 +25,7 @@
 
 namespace kessler {
 
-enum class CatalogFormat { kDetect, kTle, kOmmCsv, kOmmJson, kOmmKvn };
+enum class CatalogFormat { kDetect, kTle, kOmmCsv, kOmmJson, kOmmKvn, kOmmXml };
 
 // The format of a catalog text from its first characters.
 CatalogFormat detect_catalog_format(std::string_view text);

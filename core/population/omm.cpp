@@ -1,5 +1,6 @@
 #include "core/population/omm.hpp"
 
+#include <cctype>
 #include <cmath>
 
 #include "core/population/csv.hpp"
@@ -213,6 +214,54 @@ ElementSetText parse_omm_kvn(std::string_view text, const std::string& source) {
     }
     if (message_line == 0) message_line = line_no;
     fields[key] = value;
+  }
+  flush();
+  return out;
+}
+
+ElementSetText parse_omm_xml(std::string_view text, const std::string& source) {
+  ElementSetText out;
+  std::map<std::string, std::string> fields;
+  std::size_t message_line = 0, line = 1, counted_to = 0;
+  bool in_message = false;
+  auto line_at = [&](std::size_t pos) {
+    for (; counted_to < pos && counted_to < text.size(); ++counted_to)
+      if (text[counted_to] == '\n') ++line;
+    return line;
+  };
+  auto flush = [&]() {
+    if (in_message) add_fields(out, source, message_line, fields);
+    fields.clear();
+    in_message = false;
+  };
+  std::size_t pos = 0;
+  while ((pos = text.find('<', pos)) != std::string_view::npos) {
+    const std::size_t close = text.find('>', pos);
+    if (close == std::string_view::npos) break;
+    const char first = pos + 1 < text.size() ? text[pos + 1] : '\0';
+    if (first == '/' || first == '?' || first == '!' || text[close - 1] == '/') {
+      pos = close + 1;  // end tag, declaration, comment or empty element
+      continue;
+    }
+    std::size_t name_end = pos + 1;
+    while (name_end < close && !std::isspace(static_cast<unsigned char>(text[name_end]))) ++name_end;
+    const std::string name(text.substr(pos + 1, name_end - pos - 1));
+    if (name == "omm") {
+      flush();
+      in_message = true;
+      message_line = line_at(pos);
+      pos = close + 1;
+      continue;
+    }
+    // A leaf: <NAME ...>value</NAME> with no markup inside.
+    const std::size_t value_end = text.find('<', close + 1);
+    if (value_end != std::string_view::npos && text.substr(value_end, name.size() + 2) == "</" + name) {
+      if (in_message)
+        fields[text::upper(name)] = std::string(text::trim(text.substr(close + 1, value_end - close - 1)));
+      pos = value_end;
+      continue;
+    }
+    pos = close + 1;
   }
   flush();
   return out;

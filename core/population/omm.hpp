@@ -24,5 +24,8 @@ ElementSetText parse_omm_csv(std::string_view text, const std::string& source);
 ElementSetText parse_omm_json(std::string_view text, const std::string& source);
 // One or more KVN messages; each CCSDS_OMM_VERS line starts a new one.
 ElementSetText parse_omm_kvn(std::string_view text, const std::string& source);
+// CCSDS OMM XML (NDM/XML, as CelesTrak and the CCSDS examples write it): every <omm> element is one
+// message; its leaf elements (<EPOCH>, <MEAN_MOTION>, ...) are the fields. Not a general XML parser.
+ElementSetText parse_omm_xml(std::string_view text, const std::string& source);
 
 }  // namespace kessler

@@ -104,6 +104,8 @@ std::unordered_set<ObjectId> parse_active_list(std::string_view text, const std:
   ElementSetText parsed;
   if (!head.empty() && (head.front() == '[' || head.front() == '{')) {
     parsed = parse_omm_json(text, source);
+  } else if (!head.empty() && head.front() == '<') {
+    parsed = parse_omm_xml(text, source);
   } else if (head.find("CCSDS_OMM_VERS") != std::string_view::npos) {
     parsed = parse_omm_kvn(text, source);
   } else if (text::upper(head.substr(0, head.find('\n'))).find("NORAD_CAT_ID") != std::string::npos) {

@@ -23,12 +23,21 @@ struct FieldError {
 // YAML or JSON text onto the message. Unknown keys, wrong types and malformed text are errors.
 std::optional<FieldError> parse_scenario(std::string_view text, v1::Scenario& out);
 
+// A scenario file (YAML or JSON) read and parsed; a file that cannot be read is an error too.
+std::optional<FieldError> load_scenario_file(const std::string& path, v1::Scenario& out);
+
 // Range and consistency checks of every field, before anything runs.
 std::optional<FieldError> validate_scenario(const v1::Scenario& scenario);
 
+// The core's configuration of a valid scenario, unset fields at the paper's defaults
+// (core/scenario/scenario_defaults.hpp).
+SimulationConfig to_simulation_config(const v1::Scenario& scenario, int threads = 0);
+
 struct BuildOptions {
-  int threads = 0;                // 0: OpenMP's default
+  int threads = 0;  // 0: OpenMP's default
   std::string datasets_dir = KESSLER_DATASETS_DIR;
+  // False: no checkpoints are taken (a host with nowhere to keep them saves the time).
+  bool checkpoints = true;
 };
 
 // The run the scenario describes: validates, ingests the population, builds the propagator.

@@ -17,13 +17,13 @@
 namespace kessler {
 
 struct Progress {
-  std::int64_t step = 0;          // steps completed
+  std::int64_t step = 0;  // steps completed
   std::int64_t total_steps = 0;
-  double sim_time_s = 0.0;        // seconds since the scenario epoch
+  double sim_time_s = 0.0;  // seconds since the scenario epoch
   std::uint64_t objects_alive = 0;
   std::uint64_t events_so_far = 0;  // encounters + burn-ups emitted
-  double wall_s = 0.0;            // wall time of this run so far (not deterministic)
-  double eta_s = 0.0;             // estimated wall time left
+  double wall_s = 0.0;              // wall time of this run so far (not deterministic)
+  double eta_s = 0.0;               // estimated wall time left
 };
 
 // Seconds spent per phase, as the paper's runtime breakdown.
@@ -51,8 +51,17 @@ struct RunSummary {
   std::string state_digest;   // hex hash over the final ids and states, bit for bit
   PhaseTimers timers;
   bool cancelled = false;
+  // Stopped by RunControl::stop_after_checkpoint: not finished, resumable from the last checkpoint
+  // (on_finished is not called then).
+  bool stopped_at_checkpoint = false;
 };
 
+// The core calls the sink synchronously from the loop's thread, at step boundaries. A sink must return
+// promptly: it may buffer (bounded) and hand over to another thread, but it must not drop an event; a
+// sink that cannot keep up should block briefly (back-pressure) rather than lose anything. Encounters and
+// burn-ups of one step are delivered before that step's progress, and every event of a checkpoint's
+// steps before that checkpoint. on_finished or on_failed comes last, once (neither after a stop at a
+// checkpoint). Sequence numbers start at 1 and have no gaps.
 class EventSink {
  public:
   virtual ~EventSink() = default;

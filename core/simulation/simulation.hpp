@@ -12,6 +12,7 @@
 #include "core/physics/force_model_settings.hpp"
 #include "core/population/population.hpp"
 #include "core/simulation/events.hpp"
+#include "core/simulation/simulation_parts.hpp"
 #include "core/time/epoch.hpp"
 
 namespace kessler {
@@ -29,8 +30,11 @@ struct SimulationConfig {
   double checkpoint_every_wall_s = 0.0;     // 0: off
   std::int64_t progress_every_steps = 0;    // 0: about 200 per run
   std::uint64_t seed = 1;
-  int threads = 0;                          // 0: OpenMP's default
+  int threads = 0;  // 0: OpenMP's default
 };
+
+// Steps in a run: whole steps of dt_s that fit in duration_s (a last partial step is not taken).
+std::int64_t total_steps_of(const SimulationConfig& config);
 
 // Flags a host sets from another thread; the loop reads them once per step.
 struct RunControl {
@@ -46,10 +50,14 @@ class Simulation {
  public:
   // A fresh run of `population` moved by `propagator`.
   Simulation(const SimulationConfig& config, Population population, std::unique_ptr<Propagator> propagator);
+  // A fresh run from explicit parts (tests, tools). The contract constructor is this with default_parts.
+  Simulation(const SimulationConfig& config, Population population, SimulationParts parts);
   // A run continued from checkpoint bytes (as handed to EventSink::on_checkpoint). The propagator
   // must be built from the same scenario. Throws std::runtime_error on a corrupt checkpoint.
   static std::unique_ptr<Simulation> resume(const SimulationConfig& config, const std::string& checkpoint,
                                             std::unique_ptr<Propagator> propagator);
+  static std::unique_ptr<Simulation> resume(const SimulationConfig& config, const std::string& checkpoint,
+                                            SimulationParts parts);
   ~Simulation();
 
   // Runs to the end (or until cancelled), handing every event to `sink`. Returns the summary, which
@@ -59,6 +67,11 @@ class Simulation {
   const Population& population() const;
   std::int64_t step() const;
   std::int64_t total_steps() const;
+  // The closest encounter of every pair seen so far, ordered by (id1, id2).
+  std::vector<Encounter> closest_encounters() const;
+  // The checkpoint of the current state (what on_checkpoint receives), e.g. for a host's own triggers
+  // between runs.
+  std::string checkpoint() const;
 
  private:
   struct State;

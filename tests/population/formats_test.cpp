@@ -202,7 +202,41 @@ TEST(Omm, CcsdsKvnWithDayOfYearEpoch) {
   EXPECT_EQ(xp.problems[0].reason_key, "theory");
 }
 
+TEST(Omm, XmlFromCelesTrakAndTheCcsdsExample) {
+  const auto xml = parse_omm_xml(data("sgp4/sample_omm.xml"), "xml");
+  ASSERT_EQ(xml.sets.size(), 1u) << (xml.problems.empty() ? "" : xml.problems[0].message);
+  // The same element set as sample_omm.csv, so the same reference state.
+  expect_state(sgp4_propagate(sgp4_initialise(xml.sets[0].elements), 60.0),
+               {5341.823340, 4584.259002, 397.563454}, {-4.009075521, 5.474653212, -4.562170692});
+  const auto ccsds = parse_omm_xml(data("ccsds/OMMExample2.xml"), "ccsds-xml");
+  ASSERT_EQ(ccsds.sets.size(), 1u) << (ccsds.problems.empty() ? "" : ccsds.problems[0].message);
+  EXPECT_EQ(ccsds.sets[0].elements.catalog_number, 23581u);
+  EXPECT_EQ(ccsds.sets[0].line, 2u);
+  expect_state(sgp4_propagate(sgp4_initialise(ccsds.sets[0].elements), 60.0),
+               {-30432.377622, 29155.531518, 1820.893687}, {-2.122285689, -2.220702779, 0.096457032});
+}
+
+TEST(BadInput, EveryPrefixOfEveryFormatParsesWithoutCrashing) {
+  // Cut texts anywhere: readers must report, not crash or read out of bounds (run under ASan too).
+  const std::string texts[] = {join_crlf(real_lines()), data("sgp4/sample_omm.csv"),
+                               data("sgp4/sample_omm.json"), data("ccsds/OMMExample1.txt"),
+                               data("sgp4/sample_omm.xml")};
+  std::size_t parsed_sets = 0;
+  for (const std::string& full : texts) {
+    for (std::size_t n = 0; n <= full.size(); ++n) {
+      const std::string_view cut(full.data(), n);
+      const ElementSetText r = parse_catalog_text(cut, CatalogFormat::kDetect, "cut");
+      parsed_sets += r.sets.size();
+      for (const auto& p : r.problems) ASSERT_FALSE(p.message.empty());
+      (void)parse_satcat_csv(cut, "cut");
+      (void)parse_active_list(cut, "cut", nullptr);
+    }
+  }
+  EXPECT_GT(parsed_sets, 0u);
+}
+
 TEST(Formats, DetectedFromTheText) {
+  EXPECT_EQ(detect_catalog_format(data("sgp4/sample_omm.xml")), CatalogFormat::kOmmXml);
   EXPECT_EQ(detect_catalog_format(data("sgp4/sample_omm.csv")), CatalogFormat::kOmmCsv);
   EXPECT_EQ(detect_catalog_format(data("sgp4/sample_omm.json")), CatalogFormat::kOmmJson);
   EXPECT_EQ(detect_catalog_format(data("ccsds/OMMExample1.txt")), CatalogFormat::kOmmKvn);

@@ -1,0 +1,155 @@
+#include "client/render.hpp"
+
+#include <cstdio>
+#include <sstream>
+
+namespace kessler::cli {
+namespace {
+
+std::string num(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+std::string fixed(double v, int decimals) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+std::string clock(double s) {
+  long total = static_cast<long>(s + 0.5);
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", total / 3600, (total / 60) % 60, total % 60);
+  return buf;
+}
+
+}  // namespace
+
+const char* encounter_kind_name(EncounterKind kind) {
+  switch (kind) {
+    case EncounterKind::kCollision:
+      return "collision";
+    case EncounterKind::kEvasion:
+      return "evasion";
+    default:
+      return "conjunction";
+  }
+}
+
+std::string json_escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", c);
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+std::string encounter_json(std::uint64_t seq, const Encounter& e, const UtcEpoch& epoch) {
+  std::ostringstream s;
+  s << "{\"type\":\"" << encounter_kind_name(e.kind) << "\",\"seq\":" << seq << ",\"id1\":" << e.id1
+    << ",\"id2\":" << e.id2 << ",\"tca_s\":" << num(e.tca_s) << ",\"tca\":\""
+    << epoch.plus_seconds(e.tca_s).to_iso8601(3) << "\",\"miss_distance_m\":" << num(e.miss_distance_m)
+    << ",\"relative_speed_m_s\":" << num(e.relative_speed_m_s) << ",\"kappa\":" << num(e.kappa) << "}";
+  return s.str();
+}
+
+std::string burn_up_json(std::uint64_t seq, const BurnUp& b, const UtcEpoch& epoch) {
+  std::ostringstream s;
+  s << "{\"type\":\"burn_up\",\"seq\":" << seq << ",\"id\":" << b.id << ",\"time_s\":" << num(b.time_s)
+    << ",\"time\":\"" << epoch.plus_seconds(b.time_s).to_iso8601(3)
+    << "\",\"altitude_m\":" << num(b.altitude_m) << "}";
+  return s.str();
+}
+
+std::string progress_json(std::uint64_t seq, const Progress& p) {
+  std::ostringstream s;
+  s << "{\"type\":\"progress\",\"seq\":" << seq << ",\"step\":" << p.step
+    << ",\"total_steps\":" << p.total_steps << ",\"sim_time_s\":" << num(p.sim_time_s)
+    << ",\"objects_alive\":" << p.objects_alive << ",\"events\":" << p.events_so_far
+    << ",\"wall_s\":" << fixed(p.wall_s, 3) << ",\"eta_s\":" << fixed(p.eta_s, 3) << "}";
+  return s.str();
+}
+
+std::string checkpoint_json(std::uint64_t last_seq, std::int64_t step, const std::string& where) {
+  std::ostringstream s;
+  s << "{\"type\":\"checkpoint\",\"step\":" << step << ",\"last_seq\":" << last_seq << ",\"path\":\""
+    << json_escape(where) << "\"}";
+  return s.str();
+}
+
+std::string summary_json(const RunSummary& r) {
+  const PhaseTimers& t = r.timers;
+  std::ostringstream s;
+  s << "{\"type\":\"summary\",\"steps\":" << r.steps << ",\"sim_time_s\":" << num(r.sim_time_s)
+    << ",\"events\":" << r.events << ",\"conjunctions\":" << r.conjunctions
+    << ",\"collisions\":" << r.collisions << ",\"evasions\":" << r.evasions << ",\"burn_ups\":" << r.burn_ups
+    << ",\"objects_initial\":" << r.objects_initial << ",\"objects_final\":" << r.objects_final
+    << ",\"events_digest\":\"" << r.events_digest << "\",\"state_digest\":\"" << r.state_digest
+    << "\",\"cancelled\":" << (r.cancelled ? "true" : "false")
+    << ",\"timers_s\":{\"integrator\":" << fixed(t.integrator_s, 6)
+    << ",\"burn_up\":" << fixed(t.burn_up_s, 6) << ",\"grid\":" << fixed(t.grid_s, 6)
+    << ",\"detection\":" << fixed(t.detection_s, 6) << ",\"output\":" << fixed(t.output_s, 6)
+    << ",\"checkpoint\":" << fixed(t.checkpoint_s, 6) << ",\"total\":" << fixed(t.total_s, 6) << "}}";
+  return s.str();
+}
+
+std::string encounter_row(std::uint64_t seq, const Encounter& e, const UtcEpoch& epoch) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%8llu  %-11s  %8llu  %8llu  %s  %12.3f m  %9.1f m/s  kappa %.3f",
+                static_cast<unsigned long long>(seq), encounter_kind_name(e.kind),
+                static_cast<unsigned long long>(e.id1), static_cast<unsigned long long>(e.id2),
+                epoch.plus_seconds(e.tca_s).to_iso8601(3).c_str(), e.miss_distance_m, e.relative_speed_m_s,
+                e.kappa);
+  return buf;
+}
+
+std::string burn_up_row(std::uint64_t seq, const BurnUp& b, const UtcEpoch& epoch) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%8llu  %-11s  %8llu  %8s  %s  %12.3f km",
+                static_cast<unsigned long long>(seq), "burn_up", static_cast<unsigned long long>(b.id), "",
+                epoch.plus_seconds(b.time_s).to_iso8601(3).c_str(), b.altitude_m / 1e3);
+  return buf;
+}
+
+std::string progress_row(const Progress& p) {
+  char buf[256];
+  const double pct =
+      p.total_steps > 0 ? 100.0 * static_cast<double>(p.step) / static_cast<double>(p.total_steps) : 0;
+  std::snprintf(buf, sizeof buf,
+                "progress  step %lld/%lld (%5.1f%%)  sim %.1f d  objects %llu  events %llu  wall %s  eta %s",
+                static_cast<long long>(p.step), static_cast<long long>(p.total_steps), pct,
+                p.sim_time_s / 86400.0, static_cast<unsigned long long>(p.objects_alive),
+                static_cast<unsigned long long>(p.events_so_far), clock(p.wall_s).c_str(),
+                clock(p.eta_s).c_str());
+  return buf;
+}
+
+std::string summary_table(const RunSummary& r) {
+  const PhaseTimers& t = r.timers;
+  std::ostringstream s;
+  s << (r.cancelled ? "run stopped early\n" : "run finished\n");
+  s << "  steps          " << r.steps << " (" << fixed(r.sim_time_s / 86400.0, 3) << " days)\n";
+  s << "  objects        " << r.objects_initial << " -> " << r.objects_final << "\n";
+  s << "  events         " << r.events << " (conjunctions " << r.conjunctions << ", collisions "
+    << r.collisions << ", evasions " << r.evasions << ", burn-ups " << r.burn_ups << ")\n";
+  s << "  events_digest  " << r.events_digest << "\n";
+  s << "  state_digest   " << r.state_digest << "\n";
+  s << "  time [s]       integrator " << fixed(t.integrator_s, 3) << ", burn-up " << fixed(t.burn_up_s, 3)
+    << ", grid " << fixed(t.grid_s, 3) << ", detection " << fixed(t.detection_s, 3) << ", output "
+    << fixed(t.output_s, 3) << ", checkpoint " << fixed(t.checkpoint_s, 3) << ", total "
+    << fixed(t.total_s, 3) << "\n";
+  return s.str();
+}
+
+}  // namespace kessler::cli

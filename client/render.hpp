@@ -1,0 +1,30 @@
+// Rendering of run events and summaries for the CLI, shared by `run --local` and the remote watch
+// commands so both end with the same summary keys: one JSON object per line, or aligned table rows.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "core/simulation/events.hpp"
+#include "core/time/epoch.hpp"
+
+namespace kessler::cli {
+
+// JSON lines. Doubles are written with 17 significant digits, so values round-trip bit for bit.
+std::string encounter_json(std::uint64_t seq, const Encounter& e, const UtcEpoch& epoch);
+std::string burn_up_json(std::uint64_t seq, const BurnUp& b, const UtcEpoch& epoch);
+std::string progress_json(std::uint64_t seq, const Progress& p);
+std::string checkpoint_json(std::uint64_t last_seq, std::int64_t step, const std::string& where);
+// {"type":"summary","events":..,"collisions":..,"objects_final":..,"events_digest":..,"state_digest":..,...}
+std::string summary_json(const RunSummary& s);
+
+// Table rows for humans.
+std::string encounter_row(std::uint64_t seq, const Encounter& e, const UtcEpoch& epoch);
+std::string burn_up_row(std::uint64_t seq, const BurnUp& b, const UtcEpoch& epoch);
+std::string progress_row(const Progress& p);
+std::string summary_table(const RunSummary& s);
+
+const char* encounter_kind_name(EncounterKind kind);
+std::string json_escape(const std::string& text);
+
+}  // namespace kessler::cli

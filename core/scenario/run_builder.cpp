@@ -1,0 +1,280 @@
+// From a validated scenario to a ready-to-run Simulation: the population source, the propagator and the
+// simulation parts. Pieces built on other branches are wired as they land (the __has_include guards
+// keep this file building until then, and go once every piece is in).
+#include "core/scenario/run_builder.hpp"
+
+#include <exception>
+
+#include "core/integration/yoshida_propagator.hpp"
+#include "core/population/leo19647.hpp"
+
+#if __has_include("core/conjunctions/closest_encounters.hpp")
+#define KESSLER_HAVE_DETECTOR 1
+#include "core/conjunctions/detector.hpp"
+#endif
+#if __has_include("core/population/bundled_datasets.hpp")
+#define KESSLER_HAVE_INGEST 1
+#include "core/population/bundled_datasets.hpp"
+#endif
+#if __has_include("core/population/synthetic.hpp")
+#define KESSLER_HAVE_SYNTHETIC 1
+#include "core/population/synthetic.hpp"
+#endif
+#if __has_include("core/population/state_table.hpp")
+#define KESSLER_HAVE_STATE_TABLE 1
+#include "core/population/state_table.hpp"
+#endif
+#if __has_include("core/sgp4/sgp4_propagator.hpp")
+#define KESSLER_HAVE_SGP4 1
+#include "core/sgp4/sgp4_propagator.hpp"
+#endif
+
+namespace kessler {
+namespace {
+
+FieldError not_built(const std::string& path, const std::string& what) {
+  return FieldError{path, what + " is not part of this build"};
+}
+
+// The population a scenario names and, for catalogs, the element sets SGP4 needs (by id).
+struct LoadedPopulation {
+  Population population;
+#ifdef KESSLER_HAVE_INGEST
+  std::vector<ObjectId> element_ids;
+  std::vector<MeanElements> elements;
+#endif
+};
+
+#ifdef KESSLER_HAVE_INGEST
+IngestRules ingest_rules_of(const v1::PopulationSource& source) {
+  const v1::IngestRules& r = source.rules();
+  IngestRules rules;
+  rules.strict = r.strict();
+  if (r.has_min_perigee_km()) rules.min_perigee_km = r.min_perigee_km();
+  if (r.has_max_apogee_km()) rules.max_apogee_km = r.max_apogee_km();
+  rules.exclude_names.assign(r.exclude_names().begin(), r.exclude_names().end());
+  rules.default_exclusions = !r.no_default_exclusions();
+  rules.object_types.assign(r.object_types().begin(), r.object_types().end());
+  if (r.has_max_epoch_after_start_days()) rules.max_epoch_after_start_days = r.max_epoch_after_start_days();
+  if (r.has_small_radius_mean_m()) rules.sizes.small.mean_m = r.small_radius_mean_m();
+  if (r.has_small_radius_stddev_m()) rules.sizes.small.stddev_m = r.small_radius_stddev_m();
+  if (r.has_medium_radius_mean_m()) rules.sizes.medium.mean_m = r.medium_radius_mean_m();
+  if (r.has_medium_radius_stddev_m()) rules.sizes.medium.stddev_m = r.medium_radius_stddev_m();
+  if (r.has_large_radius_mean_m()) rules.sizes.large.mean_m = r.large_radius_mean_m();
+  if (r.has_large_radius_stddev_m()) rules.sizes.large.stddev_m = r.large_radius_stddev_m();
+  rules.max_objects = source.has_max_objects() ? source.max_objects() : 0;
+  return rules;
+}
+
+CatalogFormat catalog_format_of(v1::CatalogFormat format) {
+  switch (format) {
+    case v1::CATALOG_FORMAT_TLE:
+      return CatalogFormat::kTle;
+    case v1::CATALOG_FORMAT_OMM_CSV:
+      return CatalogFormat::kOmmCsv;
+    case v1::CATALOG_FORMAT_OMM_JSON:
+      return CatalogFormat::kOmmJson;
+    case v1::CATALOG_FORMAT_OMM_KVN:
+      return CatalogFormat::kOmmKvn;
+    default:
+      return CatalogFormat::kDetect;
+  }
+}
+
+// An ingest's outcome: refused (strict), nothing left (with the report's reasons), or the population.
+std::optional<FieldError> take(IngestResult result, const std::string& path, LoadedPopulation& out) {
+  if (result.refused) return FieldError{path, result.error};
+  if (result.population.empty()) {
+    std::string why = "no objects are left after the ingest filters (" +
+                      std::to_string(result.report.records) + " records, " +
+                      std::to_string(result.report.rejected) + " rejected";
+    for (const auto& [reason, count] : result.report.filtered_by_reason)
+      why += ", " + std::to_string(count) + " " + reason;
+    return FieldError{"population", why + "); nothing to simulate"};
+  }
+  out.element_ids = result.population.id;
+  out.elements = std::move(result.elements);
+  out.population = std::move(result.population);
+  return std::nullopt;
+}
+#endif
+
+std::optional<FieldError> load_population(const v1::Scenario& scenario, const SimulationConfig& config,
+                                          const BuildOptions& options, LoadedPopulation& out) {
+  const v1::PopulationSource& source = scenario.population();
+  (void)config;
+  switch (source.source_case()) {
+    case v1::PopulationSource::kDataset: {
+      if (source.dataset() == "leo-19647") {
+        out.population = load_leo19647(options.datasets_dir + "/leo-19647");
+        return std::nullopt;
+      }
+#ifdef KESSLER_HAVE_INGEST
+      std::string why;
+      auto input = load_bundled_catalog(source.dataset(), options.datasets_dir, &why);
+      if (!input) return FieldError{"population.dataset", why};
+      return take(ingest_catalog(*input, ingest_rules_of(source), config.start_epoch, config.seed),
+                  "population.dataset", out);
+#else
+      return not_built("population.dataset", "the catalog-2022 loader");
+#endif
+    }
+    case v1::PopulationSource::kCatalog: {
+#ifdef KESSLER_HAVE_INGEST
+      CatalogInput input;
+      input.format = catalog_format_of(source.catalog().format());
+      input.text = source.catalog().text();
+      input.source = "population.catalog.text";
+      input.satcat_csv = source.catalog().satcat_csv();
+      input.satcat_source = "population.catalog.satcat_csv";
+      input.active_list = source.catalog().active_list();
+      input.active_list_source = "population.catalog.active_list";
+      return take(ingest_catalog(input, ingest_rules_of(source), config.start_epoch, config.seed),
+                  "population.catalog", out);
+#else
+      return not_built("population.catalog", "catalog ingest");
+#endif
+    }
+    case v1::PopulationSource::kSynthetic: {
+#ifdef KESSLER_HAVE_SYNTHETIC
+      const v1::SyntheticPopulation& s = source.synthetic();
+      SyntheticOptions o;
+      o.objects = s.objects();
+      if (s.has_active_fraction()) o.active_fraction = s.active_fraction();
+      if (s.has_min_altitude_km()) o.min_altitude_km = s.min_altitude_km();
+      if (s.has_max_altitude_km()) o.max_altitude_km = s.max_altitude_km();
+      o.sizes = ingest_rules_of(source).sizes;
+      try {
+        out.population = generate_synthetic(o, config.seed);
+      } catch (const std::invalid_argument& e) {
+        return FieldError{"population.synthetic", e.what()};
+      }
+      return std::nullopt;
+#else
+      return not_built("population.synthetic", "the synthetic generator");
+#endif
+    }
+    case v1::PopulationSource::kStateTable:
+#ifdef KESSLER_HAVE_STATE_TABLE
+      return take(read_state_table(source.state_table(), ingest_rules_of(source), config.start_epoch,
+                                   "population.state_table"),
+                  "population.state_table", out);
+#else
+      return not_built("population.state_table", "the state-table reader");
+#endif
+    default:
+      return FieldError{"population", "a population source is required"};
+  }
+}
+
+std::optional<FieldError> make_parts(const v1::Scenario& scenario, const SimulationConfig& config,
+                                     const LoadedPopulation* loaded, SimulationParts& parts) {
+  if (scenario.propagator() == v1::PROPAGATOR_SGP4) {
+#ifdef KESSLER_HAVE_SGP4
+    if (!loaded || loaded->elements.empty())
+      return FieldError{"propagator", "sgp4 needs element sets: a catalog or the catalog-2022 dataset"};
+    try {
+      parts.propagator =
+          std::make_unique<Sgp4Propagator>(loaded->element_ids, loaded->elements, config.start_epoch);
+    } catch (const std::invalid_argument& e) {
+      return FieldError{"population", e.what()};
+    }
+#else
+    (void)loaded;
+    return not_built("propagator", "the sgp4 propagator");
+#endif
+  } else {
+    auto propagator = std::make_unique<YoshidaPropagator>(config.force_model, config.start_epoch);
+    propagator->set_threads(config.threads);
+    parts.propagator = std::move(propagator);
+  }
+  parts.find_burn_ups = &find_burn_ups;
+  if (config.conjunctions_enabled) {
+#ifdef KESSLER_HAVE_DETECTOR
+    if (auto problem = ConjunctionDetector::validate(config.conjunctions, config.dt_s)) {
+      std::string path = "conjunctions";
+      if (problem->rfind("kappa_max", 0) == 0) path = "conjunctions.kappa_max";
+      if (problem->rfind("screening_distance_m", 0) == 0) path = "conjunctions.screening_distance_km";
+      if (problem->rfind("dt_s", 0) == 0) path = "dt_s";
+      return FieldError{path, *problem};
+    }
+    parts.scanner = make_detector_scanner(config.conjunctions);
+#else
+    return not_built("conjunctions", "conjunction detection");
+#endif
+  }
+  return std::nullopt;
+}
+
+SimulationConfig config_of(const v1::Scenario& scenario, const BuildOptions& options) {
+  SimulationConfig config = to_simulation_config(scenario, options.threads);
+  if (!options.checkpoints) {
+    config.checkpoint_every_steps = 0;
+    config.checkpoint_every_wall_s = 0.0;
+  }
+  return config;
+}
+
+// Loader exceptions (missing files, unsound objects) become errors of the population.
+std::optional<FieldError> load_guarded(const v1::Scenario& scenario, const SimulationConfig& config,
+                                       const BuildOptions& options, LoadedPopulation& loaded) {
+  try {
+    return load_population(scenario, config, options, loaded);
+  } catch (const std::exception& e) {
+    return FieldError{"population", e.what()};
+  }
+}
+
+}  // namespace
+
+std::unique_ptr<Simulation> build_simulation(const v1::Scenario& scenario, const BuildOptions& options,
+                                             FieldError* error) {
+  FieldError ignored;
+  if (!error) error = &ignored;
+  auto fail = [&](FieldError e) {
+    *error = std::move(e);
+    return nullptr;
+  };
+  if (auto e = validate_scenario(scenario)) return fail(*e);
+  const SimulationConfig config = config_of(scenario, options);
+  LoadedPopulation loaded;
+  if (auto e = load_guarded(scenario, config, options, loaded)) return fail(*e);
+  Population& population = loaded.population;
+  const auto& source = scenario.population();
+  if (source.has_max_objects() && population.size() > source.max_objects()) {
+    std::vector<char> drop(population.size(), 0);
+    for (std::size_t i = source.max_objects(); i < drop.size(); ++i) drop[i] = 1;
+    population.remove_flagged(drop);
+  }
+  if (population.empty())
+    return fail({"population", "no objects are left after the ingest filters; nothing to simulate"});
+  if (auto problem = population.validate()) return fail({"population", *problem});
+  SimulationParts parts;
+  if (auto e = make_parts(scenario, config, &loaded, parts)) return fail(*e);
+  return std::make_unique<Simulation>(config, std::move(population), std::move(parts));
+}
+
+std::unique_ptr<Simulation> resume_simulation(const v1::Scenario& scenario, const std::string& checkpoint,
+                                              const BuildOptions& options, FieldError* error) {
+  FieldError ignored;
+  if (!error) error = &ignored;
+  auto fail = [&](FieldError e) {
+    *error = std::move(e);
+    return nullptr;
+  };
+  if (auto e = validate_scenario(scenario)) return fail(*e);
+  const SimulationConfig config = config_of(scenario, options);
+  // The checkpoint holds the population; SGP4 alone needs the element sets again.
+  LoadedPopulation loaded;
+  if (scenario.propagator() == v1::PROPAGATOR_SGP4)
+    if (auto e = load_guarded(scenario, config, options, loaded)) return fail(*e);
+  SimulationParts parts;
+  if (auto e = make_parts(scenario, config, &loaded, parts)) return fail(*e);
+  try {
+    return Simulation::resume(config, checkpoint, std::move(parts));
+  } catch (const std::exception& e) {
+    return fail({"checkpoint", e.what()});
+  }
+}
+
+}  // namespace kessler

@@ -1,0 +1,32 @@
+// The paper's values for every scenario field left unset (the scenario reference in the README lists
+// the same).
+#pragma once
+
+#include <array>
+#include <string_view>
+
+namespace kessler::scenario_defaults {
+
+inline constexpr std::string_view kStartEpoch = "2022-01-01T00:00:00Z";
+inline constexpr double kDurationDays = 1.0;
+inline constexpr double kDtS = 10.0;
+inline constexpr double kBurnUpAltitudeKm = 150.0;
+inline constexpr double kKappaMax = 10.0;
+inline constexpr double kActivePassiveMaxPassiveRadiusM = 0.10;
+inline constexpr int kCheckpointsPerRun = 50;  // every_steps default: total steps / 50
+inline constexpr double kCheckpointEveryWallS = 60.0;
+inline constexpr unsigned long long kSeed = 1;
+// Ingest (the paper's dataset section).
+inline constexpr double kMinPerigeeKm = 175.0;
+inline constexpr double kMaxApogeeKm = 2000.0;
+inline constexpr double kMaxEpochAfterStartDays = 30.0;
+inline constexpr std::array<std::string_view, 3> kExcludeNames = {"ISS (ZARYA)", "STARLINK*", "ONEWEB*"};
+inline constexpr double kSyntheticActiveFraction = 0.125;
+inline constexpr double kSyntheticMinAltitudeKm = 300.0;
+inline constexpr double kSyntheticMaxAltitudeKm = 1500.0;
+
+inline constexpr std::array<std::string_view, 2> kDatasets = {"catalog-2022", "leo-19647"};
+inline constexpr std::array<std::string_view, 4> kObjectTypes = {"PAYLOAD", "ROCKET BODY", "DEBRIS",
+                                                                 "UNKNOWN"};
+
+}  // namespace kessler::scenario_defaults

@@ -1,0 +1,219 @@
+// Scenario text (YAML, or JSON as its subset) onto v1::Scenario by walking the message descriptor, so
+// every field of the schema maps without a hand-written table. Keys are the proto field names; enum
+// values are given by their short lower-case name ("sgp4") or their full name ("PROPAGATOR_SGP4").
+#include <yaml-cpp/yaml.h>
+
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+
+#include "core/scenario/run_builder.hpp"
+
+namespace kessler {
+namespace {
+
+namespace pb = google::protobuf;
+
+std::string join_path(const std::string& path, const std::string& key) {
+  return path.empty() ? key : path + "." + key;
+}
+
+std::string describe(const YAML::Node& node) {
+  switch (node.Type()) {
+    case YAML::NodeType::Map:
+      return "a mapping";
+    case YAML::NodeType::Sequence:
+      return "a list";
+    case YAML::NodeType::Null:
+      return "nothing";
+    case YAML::NodeType::Scalar:
+      return (node.Tag() == "!" ? "the string '" : "'") + node.Scalar() + "'";
+    default:
+      return "an undefined value";
+  }
+}
+
+// The short name of an enum value: PROPAGATOR_SGP4 -> sgp4, given the type's prefix PROPAGATOR_.
+std::string short_enum_name(const pb::EnumValueDescriptor* value) {
+  std::string prefix;
+  for (char c : value->type()->name()) {
+    if (std::isupper(static_cast<unsigned char>(c)) && !prefix.empty()) prefix += '_';
+    prefix += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  }
+  prefix += '_';
+  std::string name = value->name();
+  if (name.rfind(prefix, 0) == 0) name = name.substr(prefix.size());
+  for (auto& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return name;
+}
+
+class Mapper {
+ public:
+  std::optional<FieldError> message(const YAML::Node& node, pb::Message& msg, const std::string& path) {
+    if (!node.IsMap()) return FieldError{path, "expected a mapping of keys, got " + describe(node)};
+    const pb::Descriptor* desc = msg.GetDescriptor();
+    const pb::Reflection* refl = msg.GetReflection();
+    for (const auto& kv : node) {
+      if (!kv.first.IsScalar()) return FieldError{path, "a key must be a plain name"};
+      const std::string key = kv.first.Scalar();
+      const std::string key_path = join_path(path, key);
+      const pb::FieldDescriptor* field = desc->FindFieldByName(key);
+      if (!field) {
+        std::string known;
+        for (int i = 0; i < desc->field_count(); ++i) known += (i ? ", " : "") + desc->field(i)->name();
+        return FieldError{key_path, "unknown key (known keys here: " + known + ")"};
+      }
+      if (const pb::OneofDescriptor* oneof = field->real_containing_oneof()) {
+        if (const pb::FieldDescriptor* other = refl->GetOneofFieldDescriptor(msg, oneof))
+          return FieldError{key_path, "conflicts with '" + other->name() + "': give only one of them"};
+      }
+      if (kv.second.IsNull()) return FieldError{key_path, "has no value"};
+      if (field->is_repeated()) {
+        if (!kv.second.IsSequence())
+          return FieldError{key_path, "expected a list, got " + describe(kv.second)};
+        for (std::size_t i = 0; i < kv.second.size(); ++i) {
+          if (auto e = value(kv.second[i], msg, field, key_path + "[" + std::to_string(i) + "]")) return e;
+        }
+      } else if (auto e = value(kv.second, msg, field, key_path)) {
+        return e;
+      }
+    }
+    return std::nullopt;
+  }
+
+ private:
+  std::optional<FieldError> value(const YAML::Node& node, pb::Message& msg, const pb::FieldDescriptor* field,
+                                  const std::string& path) {
+    const pb::Reflection* refl = msg.GetReflection();
+    const bool rep = field->is_repeated();
+    using T = pb::FieldDescriptor;
+    if (field->cpp_type() == T::CPPTYPE_MESSAGE) {
+      pb::Message* sub = rep ? refl->AddMessage(&msg, field) : refl->MutableMessage(&msg, field);
+      return message(node, *sub, path);
+    }
+    if (!node.IsScalar()) return FieldError{path, "expected " + expected(field) + ", got " + describe(node)};
+    const std::string text = node.Scalar();
+    const bool quoted = node.Tag() == "!";
+    switch (field->cpp_type()) {
+      case T::CPPTYPE_STRING:
+        rep ? refl->AddString(&msg, field, text) : refl->SetString(&msg, field, text);
+        return std::nullopt;
+      case T::CPPTYPE_BOOL: {
+        if (quoted || (text != "true" && text != "false"))
+          return FieldError{path, "expected true or false, got " + describe(node)};
+        rep ? refl->AddBool(&msg, field, text == "true") : refl->SetBool(&msg, field, text == "true");
+        return std::nullopt;
+      }
+      case T::CPPTYPE_DOUBLE:
+      case T::CPPTYPE_FLOAT: {
+        double v = 0;
+        if (quoted || !parse_double(text, v))
+          return FieldError{path, "expected a number, got " + describe(node)};
+        if (!std::isfinite(v)) return FieldError{path, "must be a finite number"};
+        if (field->cpp_type() == T::CPPTYPE_DOUBLE)
+          rep ? refl->AddDouble(&msg, field, v) : refl->SetDouble(&msg, field, v);
+        else
+          rep ? refl->AddFloat(&msg, field, static_cast<float>(v))
+              : refl->SetFloat(&msg, field, static_cast<float>(v));
+        return std::nullopt;
+      }
+      case T::CPPTYPE_INT64:
+      case T::CPPTYPE_INT32: {
+        std::int64_t v = 0;
+        auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+        if (quoted || ec == std::errc::invalid_argument || end != text.data() + text.size())
+          return FieldError{path, "expected a whole number, got " + describe(node)};
+        if (ec == std::errc::result_out_of_range ||
+            (field->cpp_type() == T::CPPTYPE_INT32 && (v < INT32_MIN || v > INT32_MAX)))
+          return FieldError{path, "is out of range"};
+        if (field->cpp_type() == T::CPPTYPE_INT64)
+          rep ? refl->AddInt64(&msg, field, v) : refl->SetInt64(&msg, field, v);
+        else
+          rep ? refl->AddInt32(&msg, field, static_cast<std::int32_t>(v))
+              : refl->SetInt32(&msg, field, static_cast<std::int32_t>(v));
+        return std::nullopt;
+      }
+      case T::CPPTYPE_UINT64:
+      case T::CPPTYPE_UINT32: {
+        if (!text.empty() && text[0] == '-' && !quoted) return FieldError{path, "must not be negative"};
+        std::uint64_t v = 0;
+        auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+        if (quoted || ec == std::errc::invalid_argument || end != text.data() + text.size())
+          return FieldError{path, "expected a whole number, got " + describe(node)};
+        if (ec == std::errc::result_out_of_range ||
+            (field->cpp_type() == T::CPPTYPE_UINT32 && v > UINT32_MAX))
+          return FieldError{path, "is out of range"};
+        if (field->cpp_type() == T::CPPTYPE_UINT64)
+          rep ? refl->AddUInt64(&msg, field, v) : refl->SetUInt64(&msg, field, v);
+        else
+          rep ? refl->AddUInt32(&msg, field, static_cast<std::uint32_t>(v))
+              : refl->SetUInt32(&msg, field, static_cast<std::uint32_t>(v));
+        return std::nullopt;
+      }
+      case T::CPPTYPE_ENUM: {
+        const pb::EnumDescriptor* type = field->enum_type();
+        const pb::EnumValueDescriptor* found = nullptr;
+        std::string choices;
+        for (int i = 0; i < type->value_count(); ++i) {
+          const pb::EnumValueDescriptor* v = type->value(i);
+          if (v->number() == 0) continue;  // "unspecified" is the absence of the key
+          if (text == v->name() || text == short_enum_name(v)) found = v;
+          choices += (choices.empty() ? "" : ", ") + short_enum_name(v);
+        }
+        if (!found)
+          return FieldError{path, "unknown value " + describe(node) + " (expected one of: " + choices + ")"};
+        rep ? refl->AddEnum(&msg, field, found) : refl->SetEnum(&msg, field, found);
+        return std::nullopt;
+      }
+      default:
+        return FieldError{path, "has a type the scenario format does not support"};
+    }
+  }
+
+  static std::string expected(const pb::FieldDescriptor* field) {
+    using T = pb::FieldDescriptor;
+    switch (field->cpp_type()) {
+      case T::CPPTYPE_STRING:
+        return "a string";
+      case T::CPPTYPE_BOOL:
+        return "true or false";
+      case T::CPPTYPE_DOUBLE:
+      case T::CPPTYPE_FLOAT:
+        return "a number";
+      case T::CPPTYPE_ENUM:
+        return "a name";
+      default:
+        return "a whole number";
+    }
+  }
+
+  static bool parse_double(const std::string& text, double& v) {
+    if (text.empty()) return false;
+    errno = 0;
+    char* end = nullptr;
+    v = std::strtod(text.c_str(), &end);
+    return end == text.c_str() + text.size() && errno == 0 && text.find_first_of("xXnN") == std::string::npos;
+  }
+};
+
+}  // namespace
+
+std::optional<FieldError> parse_scenario(std::string_view text, v1::Scenario& out) {
+  out.Clear();
+  YAML::Node root;
+  try {
+    root = YAML::Load(std::string(text));
+  } catch (const YAML::ParserException& e) {
+    return FieldError{"", "not valid YAML or JSON: line " + std::to_string(e.mark.line + 1) + ", column " +
+                              std::to_string(e.mark.column + 1) + ": " + e.msg};
+  }
+  if (!root || root.IsNull()) return FieldError{"", "the scenario is empty (it needs at least a population)"};
+  try {
+    return Mapper().message(root, out, "");
+  } catch (const YAML::Exception& e) {
+    return FieldError{"", std::string("not valid YAML or JSON: ") + e.what()};
+  }
+}
+
+}  // namespace kessler

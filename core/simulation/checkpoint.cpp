@@ -1,0 +1,217 @@
+#include "core/simulation/checkpoint.hpp"
+
+#include <cstring>
+#include <stdexcept>
+
+#include "core/simulation/sha256.hpp"
+
+namespace kessler {
+namespace {
+
+constexpr char kMagic[8] = {'K', 'E', 'S', 'S', 'L', 'C', 'K', 'P'};
+// Bounds that keep a corrupt size field from allocating the machine away.
+constexpr std::uint64_t kMaxObjects = 100'000'000;
+constexpr std::uint64_t kMaxString = 1u << 20;
+
+class Writer {
+ public:
+  void u8(std::uint8_t v) { out_.push_back(static_cast<char>(v)); }
+  void u32(std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) u8(static_cast<std::uint8_t>(v >> (8 * i)));
+  }
+  void u64(std::uint64_t v) {
+    for (int i = 0; i < 8; ++i) u8(static_cast<std::uint8_t>(v >> (8 * i)));
+  }
+  void i64(std::int64_t v) { u64(static_cast<std::uint64_t>(v)); }
+  void f64(double v) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &v, 8);
+    u64(bits);
+  }
+  void str(const std::string& s) {
+    u64(s.size());
+    out_.append(s);
+  }
+  void doubles(const std::vector<double>& v) {
+    for (double d : v) f64(d);
+  }
+  std::string& bytes() { return out_; }
+
+ private:
+  std::string out_;
+};
+
+class Reader {
+ public:
+  Reader(const char* data, std::size_t size) : p_(data), end_(data + size) {}
+  void need(std::size_t n, const char* what) {
+    if (static_cast<std::size_t>(end_ - p_) < n)
+      throw std::runtime_error(std::string("checkpoint: truncated in ") + what);
+  }
+  std::uint8_t u8(const char* what) {
+    need(1, what);
+    return static_cast<std::uint8_t>(*p_++);
+  }
+  std::uint32_t u32(const char* what) {
+    need(4, what);
+    std::uint32_t v = 0;
+    for (int i = 0; i < 4; ++i) v |= std::uint32_t(static_cast<std::uint8_t>(p_[i])) << (8 * i);
+    p_ += 4;
+    return v;
+  }
+  std::uint64_t u64(const char* what) {
+    need(8, what);
+    std::uint64_t v = 0;
+    for (int i = 0; i < 8; ++i) v |= std::uint64_t(static_cast<std::uint8_t>(p_[i])) << (8 * i);
+    p_ += 8;
+    return v;
+  }
+  std::int64_t i64(const char* what) { return static_cast<std::int64_t>(u64(what)); }
+  double f64(const char* what) {
+    std::uint64_t bits = u64(what);
+    double v;
+    std::memcpy(&v, &bits, 8);
+    return v;
+  }
+  std::string str(const char* what) {
+    std::uint64_t n = u64(what);
+    if (n > kMaxString) throw std::runtime_error(std::string("checkpoint: implausible length in ") + what);
+    need(n, what);
+    std::string s(p_, n);
+    p_ += n;
+    return s;
+  }
+  void doubles(std::vector<double>& v, std::size_t n, const char* what) {
+    need(8 * n, what);
+    v.resize(n);
+    for (auto& d : v) d = f64(what);
+  }
+  bool at_end() const { return p_ == end_; }
+
+ private:
+  const char* p_;
+  const char* end_;
+};
+
+void write_encounter(Writer& w, const Encounter& e) {
+  w.u64(e.id1);
+  w.u64(e.id2);
+  w.f64(e.tca_s);
+  w.f64(e.miss_distance_m);
+  w.f64(e.relative_speed_m_s);
+  w.f64(e.kappa);
+  w.u8(static_cast<std::uint8_t>(e.kind));
+  for (const auto* v : {&e.r1_m, &e.v1_m_s, &e.r2_m, &e.v2_m_s})
+    for (int k = 0; k < 3; ++k) w.f64((*v)[k]);
+}
+
+Encounter read_encounter(Reader& r) {
+  Encounter e;
+  const char* what = "closest-encounter table";
+  e.id1 = r.u64(what);
+  e.id2 = r.u64(what);
+  e.tca_s = r.f64(what);
+  e.miss_distance_m = r.f64(what);
+  e.relative_speed_m_s = r.f64(what);
+  e.kappa = r.f64(what);
+  std::uint8_t kind = r.u8(what);
+  if (kind > 2) throw std::runtime_error("checkpoint: unknown encounter kind in closest-encounter table");
+  e.kind = static_cast<EncounterKind>(kind);
+  for (auto* v : {&e.r1_m, &e.v1_m_s, &e.r2_m, &e.v2_m_s})
+    for (int k = 0; k < 3; ++k) (*v)[k] = r.f64(what);
+  return e;
+}
+
+}  // namespace
+
+std::string encode_checkpoint(const CheckpointState& s) {
+  Writer w;
+  w.str(s.config_key);
+  w.i64(s.step);
+  w.i64(s.total_steps);
+  w.u64(s.next_seq);
+  w.u64(s.seed);
+  for (auto v : {s.events, s.conjunctions, s.collisions, s.evasions, s.burn_ups, s.objects_initial}) w.u64(v);
+  w.f64(s.wall_s);
+  w.str(s.events_digest_state);
+  w.u64(s.closest_per_pair.size());
+  for (const auto& e : s.closest_per_pair) write_encounter(w, e);
+  const Population& p = s.population;
+  w.u64(p.size());
+  for (auto id : p.id) w.u64(id);
+  for (const auto& name : p.name) w.str(name);
+  for (const auto* v : {&p.state.x, &p.state.y, &p.state.z, &p.state.vx, &p.state.vy, &p.state.vz,
+                        &p.radius_m, &p.mass_kg, &p.drag_area_to_mass_m2_kg, &p.srp_area_to_mass_m2_kg})
+    w.doubles(*v);
+  for (auto status : p.status) w.u8(static_cast<std::uint8_t>(status));
+
+  const std::string& payload = w.bytes();
+  Sha256 sum;
+  sum.update(payload);
+  auto digest = sum.digest();
+  Writer out;
+  out.bytes().append(kMagic, sizeof kMagic);
+  out.u32(kCheckpointVersion);
+  out.u64(payload.size());
+  out.bytes().append(payload);
+  out.bytes().append(reinterpret_cast<const char*>(digest.data()), digest.size());
+  return std::move(out.bytes());
+}
+
+CheckpointState decode_checkpoint(const std::string& bytes) {
+  if (bytes.size() < sizeof kMagic + 4 + 8 + 32 || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    throw std::runtime_error("checkpoint: not a kessler checkpoint (bad header)");
+  Reader head(bytes.data() + sizeof kMagic, 12);
+  std::uint32_t version = head.u32("header");
+  if (version != kCheckpointVersion)
+    throw std::runtime_error("checkpoint: format version " + std::to_string(version) +
+                             " is not supported (this build reads " + std::to_string(kCheckpointVersion) +
+                             ")");
+  std::uint64_t size = head.u64("header");
+  const std::size_t offset = sizeof kMagic + 12;
+  if (size != bytes.size() - offset - 32)
+    throw std::runtime_error("checkpoint: truncated or padded (payload size does not match)");
+  Sha256 sum;
+  sum.update(bytes.data() + offset, size);
+  auto digest = sum.digest();
+  if (std::memcmp(digest.data(), bytes.data() + offset + size, 32) != 0)
+    throw std::runtime_error("checkpoint: checksum mismatch (corrupt bytes)");
+
+  Reader r(bytes.data() + offset, size);
+  CheckpointState s;
+  s.config_key = r.str("config key");
+  s.step = r.i64("step");
+  s.total_steps = r.i64("total steps");
+  s.next_seq = r.u64("sequence");
+  s.seed = r.u64("seed");
+  for (auto* v : {&s.events, &s.conjunctions, &s.collisions, &s.evasions, &s.burn_ups, &s.objects_initial})
+    *v = r.u64("counters");
+  s.wall_s = r.f64("wall time");
+  s.events_digest_state = r.str("events digest");
+  std::uint64_t pairs = r.u64("closest-encounter table");
+  if (pairs > kMaxObjects) throw std::runtime_error("checkpoint: implausible closest-encounter table size");
+  s.closest_per_pair.reserve(pairs);
+  for (std::uint64_t i = 0; i < pairs; ++i) s.closest_per_pair.push_back(read_encounter(r));
+  std::uint64_t n = r.u64("population size");
+  if (n > kMaxObjects) throw std::runtime_error("checkpoint: implausible population size");
+  Population& p = s.population;
+  p.id.resize(n);
+  for (auto& id : p.id) id = r.u64("ids");
+  p.name.resize(n);
+  for (auto& name : p.name) name = r.str("names");
+  for (auto* v : {&p.state.x, &p.state.y, &p.state.z, &p.state.vx, &p.state.vy, &p.state.vz, &p.radius_m,
+                  &p.mass_kg, &p.drag_area_to_mass_m2_kg, &p.srp_area_to_mass_m2_kg})
+    r.doubles(*v, n, "population arrays");
+  p.status.resize(n);
+  for (auto& status : p.status) {
+    std::uint8_t v = r.u8("statuses");
+    if (v > 1) throw std::runtime_error("checkpoint: unknown object status");
+    status = static_cast<ObjectStatus>(v);
+  }
+  if (!r.at_end()) throw std::runtime_error("checkpoint: trailing bytes after the population");
+  if (s.step < 0 || s.step > s.total_steps || s.next_seq == 0)
+    throw std::runtime_error("checkpoint: inconsistent step counter or sequence number");
+  return s;
+}
+
+}  // namespace kessler

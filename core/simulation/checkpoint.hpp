@@ -1,0 +1,35 @@
+// Checkpoint bytes: the complete state of a run at a step boundary, self-contained, versioned and
+// checksummed. Layout: "KESSLCKP", format version (u32), payload size (u64), payload, SHA-256 of the
+// payload. Numbers little-endian; doubles as their bit patterns, so a resumed run continues bit for bit.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/conjunctions/encounter.hpp"
+#include "core/population/population.hpp"
+
+namespace kessler {
+
+struct CheckpointState {
+  std::string config_key;  // hex digest of the result-shaping configuration (refuses another scenario)
+  std::int64_t step = 0;   // steps completed
+  std::int64_t total_steps = 0;
+  std::uint64_t next_seq = 1;
+  std::uint64_t seed = 0;  // random draws are keyed by (seed, object id, purpose): no other RNG state
+  std::uint64_t events = 0, conjunctions = 0, collisions = 0, evasions = 0, burn_ups = 0;
+  std::uint64_t objects_initial = 0;
+  double wall_s = 0.0;                      // wall time spent before this checkpoint (progress and ETA only)
+  std::string events_digest_state;          // Sha256 running state over every event so far
+  std::vector<Encounter> closest_per_pair;  // the closest encounter of every pair so far, sorted by ids
+  Population population;
+};
+
+inline constexpr std::uint32_t kCheckpointVersion = 1;
+
+std::string encode_checkpoint(const CheckpointState& state);
+// Throws std::runtime_error ("checkpoint: <reason>") on bytes that are not a sound checkpoint.
+CheckpointState decode_checkpoint(const std::string& bytes);
+
+}  // namespace kessler

@@ -1,0 +1,26 @@
+// ConjunctionDetector behind the EncounterScanner interface the loop reads.
+#include "core/conjunctions/detector.hpp"
+#include "core/simulation/simulation_parts.hpp"
+
+namespace kessler {
+namespace {
+
+class DetectorScanner final : public EncounterScanner {
+ public:
+  explicit DetectorScanner(const ConjunctionSettings& settings) : detector_(settings) {}
+  void scan(const Population& population, const StepEnds& step, std::vector<Encounter>& out) override {
+    detector_.scan(population, step, out);
+  }
+  double last_grid_s() const override { return detector_.last_grid_s(); }
+
+ private:
+  ConjunctionDetector detector_;
+};
+
+}  // namespace
+
+std::unique_ptr<EncounterScanner> make_detector_scanner(const ConjunctionSettings& settings) {
+  return std::make_unique<DetectorScanner>(settings);
+}
+
+}  // namespace kessler

@@ -1,0 +1,367 @@
+// The main loop: integrate, burn-up, detection, events, progress, checkpoints; each phase timed.
+#include "core/simulation/simulation.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+#include <thread>
+#include <utility>
+
+#include "core/simulation/checkpoint.hpp"
+#include "core/simulation/sha256.hpp"
+
+namespace kessler {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Event tags inside the events digest.
+constexpr std::uint64_t kTagEncounter = 1, kTagBurnUp = 2, kTagProgress = 3;
+
+// The configuration fields that shape results: a checkpoint from a run with other values is refused.
+// Threads, checkpoint triggers and wall-time never change results, so they are left out.
+std::string config_key(const SimulationConfig& c) {
+  Sha256 h;
+  h.update("kessler-config-v1");
+  h.update_f64(c.start_epoch.jd_whole());
+  h.update_f64(c.start_epoch.jd_fraction());
+  h.update_f64(c.duration_s);
+  h.update_f64(c.dt_s);
+  const auto& f = c.force_model;
+  for (bool b : {f.kepler, f.j2, f.c22_s22, f.drag, f.srp, f.srp_earth_shadow}) h.update_u64(b);
+  h.update_u64(static_cast<std::uint64_t>(f.atmosphere));
+  h.update_u64(c.conjunctions_enabled);
+  const auto& k = c.conjunctions;
+  h.update_u64(static_cast<std::uint64_t>(k.narrow_phase));
+  h.update_f64(k.kappa_max);
+  h.update_f64(k.screening_distance_m);
+  h.update_u64(k.active_pairs_evade);
+  h.update_f64(k.active_passive_max_passive_radius_m);
+  h.update_f64(c.burn_up_altitude_m);
+  h.update_u64(static_cast<std::uint64_t>(c.progress_every_steps));
+  h.update_u64(c.seed);
+  return h.hex_digest();
+}
+
+// Progress every this many steps: the configured value, else about 200 per run.
+std::int64_t progress_interval(const SimulationConfig& c, std::int64_t total) {
+  if (c.progress_every_steps > 0) return c.progress_every_steps;
+  return std::max<std::int64_t>(1, total / 200);
+}
+
+void hash_encounter(Sha256& h, std::uint64_t seq, const Encounter& e) {
+  h.update_u64(kTagEncounter);
+  h.update_u64(seq);
+  h.update_u64(e.id1);
+  h.update_u64(e.id2);
+  h.update_f64(e.tca_s);
+  h.update_f64(e.miss_distance_m);
+  h.update_f64(e.relative_speed_m_s);
+  h.update_f64(e.kappa);
+  h.update_u64(static_cast<std::uint64_t>(e.kind));
+  for (const auto* v : {&e.r1_m, &e.v1_m_s, &e.r2_m, &e.v2_m_s})
+    for (int k = 0; k < 3; ++k) h.update_f64((*v)[k]);
+}
+
+void hash_burn_up(Sha256& h, std::uint64_t seq, const BurnUp& b) {
+  h.update_u64(kTagBurnUp);
+  h.update_u64(seq);
+  h.update_u64(b.id);
+  h.update_f64(b.time_s);
+  h.update_f64(b.altitude_m);
+}
+
+// Only the deterministic fields: wall time and ETA differ between runs.
+void hash_progress(Sha256& h, std::uint64_t seq, const Progress& p) {
+  h.update_u64(kTagProgress);
+  h.update_u64(seq);
+  h.update_u64(static_cast<std::uint64_t>(p.step));
+  h.update_u64(static_cast<std::uint64_t>(p.total_steps));
+  h.update_f64(p.sim_time_s);
+  h.update_u64(p.objects_alive);
+  h.update_u64(p.events_so_far);
+}
+
+std::string state_digest(const Population& p) {
+  Sha256 h;
+  h.update_u64(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    h.update_u64(p.id[i]);
+    for (const auto* v : {&p.state.x, &p.state.y, &p.state.z, &p.state.vx, &p.state.vy, &p.state.vz})
+      h.update_f64((*v)[i]);
+  }
+  return h.hex_digest();
+}
+
+// Closer wins; at equal distance the earlier one.
+bool closer(const Encounter& a, const Encounter& b) {
+  if (a.miss_distance_m != b.miss_distance_m) return a.miss_distance_m < b.miss_distance_m;
+  return a.tca_s < b.tca_s;
+}
+
+}  // namespace
+
+std::int64_t total_steps_of(const SimulationConfig& config) {
+  if (!(config.dt_s > 0.0) || !(config.duration_s > 0.0)) return 0;
+  // The tiny tolerance keeps 86400 / 10 from landing a hair under 8640 after rounding.
+  return static_cast<std::int64_t>(std::floor(config.duration_s / config.dt_s * (1.0 + 1e-12)));
+}
+
+struct Simulation::State {
+  SimulationConfig config;
+  std::string key;
+  SimulationParts parts;
+  Population population;
+  std::int64_t step = 0;
+  std::int64_t total_steps = 0;
+  std::uint64_t next_seq = 1;
+  std::uint64_t events = 0, conjunctions = 0, collisions = 0, evasions = 0, burn_ups = 0;
+  std::uint64_t objects_initial = 0;
+  double wall_before_s = 0.0;  // wall time of earlier sessions (resumed runs)
+  Sha256 events_hash;
+  std::map<std::pair<ObjectId, ObjectId>, Encounter> closest;
+  std::int64_t last_checkpoint_step = -1;
+
+  CheckpointState snapshot(double wall_s) const {
+    CheckpointState c;
+    c.config_key = key;
+    c.step = step;
+    c.total_steps = total_steps;
+    c.next_seq = next_seq;
+    c.seed = config.seed;
+    c.events = events;
+    c.conjunctions = conjunctions;
+    c.collisions = collisions;
+    c.evasions = evasions;
+    c.burn_ups = burn_ups;
+    c.objects_initial = objects_initial;
+    c.wall_s = wall_s;
+    c.events_digest_state = events_hash.save_state();
+    c.closest_per_pair.reserve(closest.size());
+    for (const auto& [pair, e] : closest) c.closest_per_pair.push_back(e);
+    c.population = population;
+    return c;
+  }
+};
+
+Simulation::Simulation(const SimulationConfig& config, Population population, SimulationParts parts)
+    : state_(std::make_unique<State>()) {
+  if (!parts.propagator) throw std::invalid_argument("simulation: no propagator");
+  state_->config = config;
+  state_->key = config_key(config);
+  state_->parts = std::move(parts);
+  state_->population = std::move(population);
+  state_->total_steps = total_steps_of(config);
+  state_->objects_initial = state_->population.size();
+}
+
+std::unique_ptr<Simulation> Simulation::resume(const SimulationConfig& config, const std::string& checkpoint,
+                                               SimulationParts parts) {
+  CheckpointState c = decode_checkpoint(checkpoint);
+  if (c.config_key != config_key(config))
+    throw std::runtime_error(
+        "checkpoint: taken by a run with a different scenario (step, epoch, duration, force "
+        "model, conjunction settings, burn-up altitude, progress interval or seed differ)");
+  if (c.total_steps != total_steps_of(config))
+    throw std::runtime_error("checkpoint: step count does not match the scenario");
+  auto sim = std::make_unique<Simulation>(config, std::move(c.population), std::move(parts));
+  State& s = *sim->state_;
+  s.step = c.step;
+  s.next_seq = c.next_seq;
+  s.events = c.events;
+  s.conjunctions = c.conjunctions;
+  s.collisions = c.collisions;
+  s.evasions = c.evasions;
+  s.burn_ups = c.burn_ups;
+  s.objects_initial = c.objects_initial;
+  s.wall_before_s = c.wall_s;
+  if (!s.events_hash.restore_state(c.events_digest_state))
+    throw std::runtime_error("checkpoint: events digest state is malformed");
+  for (const auto& e : c.closest_per_pair) s.closest.emplace(std::make_pair(e.id1, e.id2), e);
+  s.last_checkpoint_step = c.step;
+  return sim;
+}
+
+Simulation::~Simulation() = default;
+
+const Population& Simulation::population() const {
+  return state_->population;
+}
+std::int64_t Simulation::step() const {
+  return state_->step;
+}
+std::int64_t Simulation::total_steps() const {
+  return state_->total_steps;
+}
+
+std::vector<Encounter> Simulation::closest_encounters() const {
+  std::vector<Encounter> out;
+  out.reserve(state_->closest.size());
+  for (const auto& [pair, e] : state_->closest) out.push_back(e);
+  return out;
+}
+
+std::string Simulation::checkpoint() const {
+  return encode_checkpoint(state_->snapshot(state_->wall_before_s));
+}
+
+RunSummary Simulation::run(EventSink& sink, RunControl& control) {
+  State& s = *state_;
+  const SimulationConfig& cfg = s.config;
+  if (cfg.threads > 0) omp_set_num_threads(cfg.threads);
+
+  const auto run_start = Clock::now();
+  auto last_checkpoint_wall = run_start;
+  const std::int64_t first_step = s.step;
+  const std::int64_t progress_every = progress_interval(cfg, s.total_steps);
+  PhaseTimers timers;
+  RunSummary summary;
+
+  auto wall_now = [&] { return s.wall_before_s + seconds_since(run_start); };
+
+  auto write_checkpoint = [&] {
+    auto t0 = Clock::now();
+    std::string bytes = encode_checkpoint(s.snapshot(wall_now()));
+    sink.on_checkpoint(s.next_seq - 1, s.step, bytes);
+    s.last_checkpoint_step = s.step;
+    last_checkpoint_wall = Clock::now();
+    timers.checkpoint_s += seconds_since(t0);
+  };
+
+  std::vector<Encounter> encounters;
+  std::vector<char> flags;
+  StateArrays start_state;
+
+  try {
+    for (;;) {
+      // Step boundary: controls, then checkpoints.
+      if (control.cancel.load()) {
+        summary.cancelled = true;
+        break;
+      }
+      const bool fresh_boundary = s.step != s.last_checkpoint_step && s.step > 0 && s.step < s.total_steps;
+      bool due = control.checkpoint_now.exchange(false) || control.stop_after_checkpoint.load();
+      if (fresh_boundary && cfg.checkpoint_every_steps > 0 && s.step % cfg.checkpoint_every_steps == 0)
+        due = true;
+      if (fresh_boundary && cfg.checkpoint_every_wall_s > 0 &&
+          seconds_since(last_checkpoint_wall) >= cfg.checkpoint_every_wall_s)
+        due = true;
+      if (due && s.step < s.total_steps) write_checkpoint();
+      if (control.stop_after_checkpoint.load() && s.step < s.total_steps) {
+        summary.cancelled = true;
+        summary.stopped_at_checkpoint = true;
+        break;
+      }
+      if (control.pause.load()) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        continue;
+      }
+      if (s.step >= s.total_steps) break;
+
+      const double t0_s = static_cast<double>(s.step) * cfg.dt_s;
+      const double t1_s = static_cast<double>(s.step + 1) * cfg.dt_s;
+      Population& pop = s.population;
+
+      // Integrate.
+      auto t = Clock::now();
+      start_state = pop.state;
+      s.parts.propagator->step(pop, t0_s, cfg.dt_s);
+      timers.integrator_s += seconds_since(t);
+
+      // Burn-up: found now, removed after detection (StepEnds stay index-aligned for the scan).
+      t = Clock::now();
+      std::vector<BurnUp> burned;
+      flags.assign(pop.size(), 0);
+      if (s.parts.find_burn_ups) {
+        burned = s.parts.find_burn_ups(pop, cfg.burn_up_altitude_m, t1_s, flags);
+        std::sort(burned.begin(), burned.end(), [](const BurnUp& a, const BurnUp& b) { return a.id < b.id; });
+      }
+      timers.burn_up_s += seconds_since(t);
+
+      // Detection.
+      encounters.clear();
+      if (s.parts.scanner && pop.size() > 1) {
+        t = Clock::now();
+        StepEnds ends{t0_s, cfg.dt_s, &start_state, &pop.state};
+        s.parts.scanner->scan(pop, ends, encounters);
+        const double scan_s = seconds_since(t);
+        const double grid_s = std::min(scan_s, s.parts.scanner->last_grid_s());
+        timers.grid_s += grid_s;
+        timers.detection_s += scan_s - grid_s;
+      }
+
+      // Events, in sequence order: encounters (canonical), burn-ups (by id), progress.
+      t = Clock::now();
+      for (const Encounter& e : encounters) {
+        const std::uint64_t seq = s.next_seq++;
+        hash_encounter(s.events_hash, seq, e);
+        ++s.events;
+        if (e.kind == EncounterKind::kEvasion)
+          ++s.evasions;
+        else
+          ++s.conjunctions;
+        if (e.kind == EncounterKind::kCollision) ++s.collisions;
+        auto [it, inserted] = s.closest.try_emplace(std::make_pair(e.id1, e.id2), e);
+        if (!inserted && closer(e, it->second)) it->second = e;
+        sink.on_encounter(seq, e);
+      }
+      for (const BurnUp& b : burned) {
+        const std::uint64_t seq = s.next_seq++;
+        hash_burn_up(s.events_hash, seq, b);
+        ++s.events;
+        ++s.burn_ups;
+        sink.on_burn_up(seq, b);
+      }
+      if (!burned.empty()) pop.remove_flagged(flags);
+      ++s.step;
+
+      if (s.step % progress_every == 0 || s.step == s.total_steps) {
+        Progress p;
+        p.step = s.step;
+        p.total_steps = s.total_steps;
+        p.sim_time_s = t1_s;
+        p.objects_alive = pop.size();
+        p.events_so_far = s.events;
+        p.wall_s = wall_now();
+        const double session_wall = seconds_since(run_start);
+        const std::int64_t done = s.step - first_step;
+        p.eta_s = done > 0
+                      ? session_wall / static_cast<double>(done) * static_cast<double>(s.total_steps - s.step)
+                      : 0.0;
+        const std::uint64_t seq = s.next_seq++;
+        hash_progress(s.events_hash, seq, p);
+        sink.on_progress(seq, p);
+      }
+      timers.output_s += seconds_since(t);
+    }
+  } catch (const std::exception& e) {
+    sink.on_failed(e.what());
+    throw;
+  }
+
+  timers.total_s = seconds_since(run_start);
+  summary.steps = s.step;
+  summary.sim_time_s = static_cast<double>(s.step) * cfg.dt_s;
+  summary.events = s.events;
+  summary.conjunctions = s.conjunctions;
+  summary.collisions = s.collisions;
+  summary.evasions = s.evasions;
+  summary.burn_ups = s.burn_ups;
+  summary.objects_initial = s.objects_initial;
+  summary.objects_final = s.population.size();
+  summary.events_digest = s.events_hash.hex_digest();
+  summary.state_digest = state_digest(s.population);
+  summary.timers = timers;
+  if (!summary.stopped_at_checkpoint) sink.on_finished(summary);
+  return summary;
+}
+
+}  // namespace kessler

@@ -1,0 +1,45 @@
+// What a Simulation is assembled from: the propagator, the conjunction scan and the burn-up rule. The
+// contract constructor (config, population, propagator) takes the project's own detector and burn-up
+// rule; tests and tools may hand in others through SimulationParts.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "core/conjunctions/encounter.hpp"
+#include "core/integration/burn_up.hpp"
+#include "core/integration/propagator.hpp"
+
+namespace kessler {
+
+struct SimulationConfig;
+
+// One step's conjunction scan, as ConjunctionDetector::scan: every encounter of the step appended to
+// `out` in canonical order, bitwise identical for any thread count.
+class EncounterScanner {
+ public:
+  virtual ~EncounterScanner() = default;
+  virtual void scan(const Population& population, const StepEnds& step, std::vector<Encounter>& out) = 0;
+  // Seconds of the last scan spent in the broad phase (grid), for the phase timers; 0 if unknown.
+  virtual double last_grid_s() const { return 0.0; }
+};
+
+// The objects below min_altitude_m and their removal flags (the signature of find_burn_ups).
+using BurnUpFinder = std::function<std::vector<BurnUp>(const Population&, double min_altitude_m,
+                                                       double time_s, std::vector<char>& flags)>;
+
+struct SimulationParts {
+  std::unique_ptr<Propagator> propagator;
+  std::unique_ptr<EncounterScanner> scanner;  // null: no conjunction tracking
+  BurnUpFinder find_burn_ups;                 // null: no burn-up
+};
+
+// ConjunctionDetector behind the scanner interface.
+std::unique_ptr<EncounterScanner> make_detector_scanner(const ConjunctionSettings& settings);
+
+// The project's parts for `config`: `propagator`, ConjunctionDetector (when config.conjunctions_enabled)
+// and find_burn_ups.
+SimulationParts default_parts(const SimulationConfig& config, std::unique_ptr<Propagator> propagator);
+
+}  // namespace kessler
