@@ -210,11 +210,15 @@ v1::Run RunManager::submit(const v1::SubmitRunRequest& request) {
     throw ServiceError(Code::kResourceExhausted, "queue full: " + std::to_string(options_.queue_limit) +
                                                      " runs are waiting; try later");
   }
-  return get(id);
+  return get(id, false);
 }
 
 v1::Run RunManager::get(std::int64_t run_id) {
-  auto run = store_.get_run(run_id);
+  return get(run_id, true);
+}
+
+v1::Run RunManager::get(std::int64_t run_id, bool with_scenario) {
+  auto run = store_.get_run(run_id, with_scenario);
   if (!run) throw ServiceError(Code::kNotFound, "run " + std::to_string(run_id) + " not found");
   if (run->state() == v1::RUN_STATE_QUEUED) run->set_queue_position(scheduler_->queue_position(run_id));
   return *run;
@@ -241,17 +245,17 @@ v1::ListRunsResponse RunManager::list(const v1::ListRunsRequest& request) {
 }
 
 v1::Run RunManager::cancel(std::int64_t run_id) {
-  v1::Run run = get(run_id);
+  v1::Run run = get(run_id, false);
   if (is_terminal(run.state()))
     throw ServiceError(Code::kFailedPrecondition, "run " + std::to_string(run_id) + " has already ended (" +
                                                       run_state_name(run.state()) + ")");
   auto result = scheduler_->cancel(run_id);
   if (result != Scheduler::CancelResult::kSignalled) finish(run_id, v1::RUN_STATE_CANCELLED, "", nullptr);
-  return get(run_id);
+  return get(run_id, false);
 }
 
 void RunManager::remove(std::int64_t run_id) {
-  v1::Run run = get(run_id);
+  v1::Run run = get(run_id, false);
   if (!is_terminal(run.state()))
     throw ServiceError(Code::kFailedPrecondition, "run " + std::to_string(run_id) + " is " +
                                                       run_state_name(run.state()) +
@@ -261,7 +265,7 @@ void RunManager::remove(std::int64_t run_id) {
 }
 
 v1::ListConjunctionsResponse RunManager::conjunctions(const v1::ListConjunctionsRequest& request) {
-  get(request.run_id());  // NOT_FOUND
+  get(request.run_id(), false);  // NOT_FOUND
   if (request.page_size() < 0)
     throw ServiceError(Code::kInvalidArgument, "page_size: must be >= 0", "page_size");
   if (request.has_kappa_min() && request.has_kappa_max() && request.kappa_min() > request.kappa_max())
@@ -370,7 +374,7 @@ void RunManager::watch(const v1::WatchRunRequest& request,
                        const std::function<bool(const v1::RunEvent&)>& write,
                        const std::function<bool()>& stop) {
   const std::int64_t id = request.run_id();
-  v1::Run run = get(id);  // NOT_FOUND before the stream starts
+  v1::Run run = get(id, false);  // NOT_FOUND before the stream starts
   std::uint64_t cursor = request.after_seq();
   const bool no_progress = request.no_progress();
   constexpr std::size_t kBatch = 1000;

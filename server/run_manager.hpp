@@ -74,6 +74,8 @@ class RunManager {
   Store& store() { return store_; }
 
  private:
+  // with_scenario false: without the (possibly large) scenario message.
+  v1::Run get(std::int64_t run_id, bool with_scenario);
   void execute(std::int64_t run_id, RunControl& control);
   std::shared_ptr<EventHub> hub(std::int64_t run_id);
   void finish(std::int64_t run_id, v1::RunState state, const std::string& error,
