@@ -69,7 +69,11 @@ class Service final : public v1::KesslerService::Service {
                         grpc::ServerWriter<v1::RunEvent>* writer) override {
     return guarded(c, [&] {
       m_.watch(
-          *r, [&](const v1::RunEvent& e) { return writer->Write(e); }, [&] { return c->IsCancelled(); });
+          *r,
+          [&](const v1::RunEvent& e, bool more) {
+            return writer->Write(e, more ? grpc::WriteOptions().set_buffer_hint() : grpc::WriteOptions());
+          },
+          [&] { return c->IsCancelled(); });
     });
   }
   grpc::Status ListConjunctions(grpc::ServerContext* c, const v1::ListConjunctionsRequest* r,

@@ -64,9 +64,10 @@ class RunManager {
   v1::RunStats stats(const v1::GetRunStatsRequest& request);
 
   // Streams the run's events after request.after_seq through `write` (false: the client has gone)
-  // until the run ends, `stop()` turns true or the daemon shuts down.
-  void watch(const v1::WatchRunRequest& request, const std::function<bool(const v1::RunEvent&)>& write,
-             const std::function<bool()>& stop);
+  // until the run ends, `stop()` turns true or the daemon shuts down (ServiceError kUnavailable).
+  // `more` tells the writer that another event follows at once.
+  using WriteEvent = std::function<bool(const v1::RunEvent& event, bool more)>;
+  void watch(const v1::WatchRunRequest& request, const WriteEvent& write, const std::function<bool()>& stop);
 
   // Graceful stop: running runs checkpoint and stay resumable, watchers end.
   void shutdown();

@@ -469,10 +469,14 @@ TEST(ServiceEndToEnd, StatusCodesForQueueLimitsCancelDeleteAndUnknownRuns) {
       std::make_unique<Daemon>(dir.path() + "/k.db", std::vector<std::string>{"--queue-limit", "1"});
   daemon->start();
   auto stub = connect(*daemon);
-  std::int64_t running = submit_file(*stub, kTiny);
+  // Runs long enough (days) to be cancelled while still running, however fast the machine.
+  std::string long_text = test::read_text(kTiny);
+  long_text.replace(long_text.find("duration_days: 0.04"), 19, "duration_days: 5");
+  test::write_text(dir.path() + "/long.yaml", long_text);
+  std::int64_t running = submit_file(*stub, dir.path() + "/long.yaml");
   while (get_run(*stub, running).state() == v1::RUN_STATE_QUEUED)
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  std::int64_t queued = submit_file(*stub, kTiny);
+  std::int64_t queued = submit_file(*stub, dir.path() + "/long.yaml");
   v1::SubmitRunRequest request;
   request.set_scenario_text(test::read_text(kTiny));
   v1::Run run;
