@@ -3,6 +3,7 @@
 #pragma once
 
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -52,6 +53,7 @@ class Daemon {
     log_ = db_path_ + ".log";
     pid_ = fork();
     if (pid_ == 0) {
+      prctl(PR_SET_PDEATHSIG, SIGKILL);  // a test killed midway leaves no daemon behind
       std::freopen(log_.c_str(), "a", stdout);
       std::freopen(log_.c_str(), "a", stderr);
       std::vector<std::string> args = {bin("kesslerd"), "--listen",    "127.0.0.1:0", "--db",
