@@ -22,6 +22,7 @@
 #include <string>
 #include <utility>
 
+#include "core/conjunctions/detector.hpp"
 #include "core/integration/yoshida_propagator.hpp"
 #include "core/population/bundled_datasets.hpp"
 #include "core/population/ingest.hpp"
@@ -165,6 +166,12 @@ int run(int argc, char** argv) {
   config.conjunctions.kappa_max = args.get_double("--kappa", 10.0);
   config.conjunctions.screening_distance_m = args.get_double("--screen-km", 0.0) * 1e3;
   config.conjunctions.narrow_phase = narrow == "linear" ? NarrowPhase::kLinear : NarrowPhase::kHermite;
+  if (config.conjunctions_enabled) {
+    if (auto problem = ConjunctionDetector::validate(config.conjunctions, config.dt_s)) {
+      std::cerr << "kessler-bench run: " << *problem << "\n";
+      return 2;
+    }
+  }
   if (total_steps_of(config) < 1) {
     std::cerr << "kessler-bench run: --days shorter than one step of --dt\n";
     return 2;
