@@ -211,6 +211,10 @@ int run(int argc, char** argv) {
     return 1;
   }
   const double load_s = now_s() - load_start;
+  if (population.size() == 0) {
+    std::cerr << "kessler-bench run: " << dataset << ": no objects to simulate (--objects)\n";
+    return 2;
+  }
   const std::size_t objects = population.size();
 
   std::FILE* events_out = nullptr;
