@@ -23,18 +23,16 @@ inline std::uint64_t axis_cell(double coordinate_m, double inverse_cell_m) {
   return static_cast<std::uint64_t>(static_cast<std::int64_t>(q) + kAxisOffset);
 }
 
-constexpr std::uint64_t offset_key(int dx, int dy, int dz) {
-  return static_cast<std::uint64_t>((std::int64_t{dx} << (2 * kAxisBits)) + (std::int64_t{dy} << kAxisBits) +
-                                    std::int64_t{dz});
+// Key offset of the row (dx, dy) (z unchanged).
+constexpr std::uint64_t row_offset(int dx, int dy) {
+  return static_cast<std::uint64_t>((std::int64_t{dx} << (2 * kAxisBits)) + (std::int64_t{dy} << kAxisBits));
 }
 
-// The 13 neighbours after a cell in lexicographic (x, y, z) order: with the cell itself, each
-// unordered pair of neighbouring cells is visited once.
-constexpr std::uint64_t kForwardNeighbours[13] = {
-    offset_key(0, 0, 1),   offset_key(0, 1, -1), offset_key(0, 1, 0),  offset_key(0, 1, 1),
-    offset_key(1, -1, -1), offset_key(1, -1, 0), offset_key(1, -1, 1), offset_key(1, 0, -1),
-    offset_key(1, 0, 0),   offset_key(1, 0, 1),  offset_key(1, 1, -1), offset_key(1, 1, 0),
-    offset_key(1, 1, 1)};
+// The forward half of the 26 neighbours: (0, 0, +1) in the cell's own row, and z cells -1..+1 of the
+// rows (0, +1), (+1, -1), (+1, 0), (+1, +1). With the cell itself, each unordered pair of neighbouring
+// cells is visited once.
+constexpr std::uint64_t kForwardRows[4] = {row_offset(0, 1), row_offset(1, -1), row_offset(1, 0),
+                                           row_offset(1, 1)};
 
 inline void min_max4(double a, double b, double c, double d, double& lo, double& hi) {
   lo = std::min(std::min(a, b), std::min(c, d));
@@ -66,7 +64,7 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
     buckets *= 2;
     ++bits;
   }
-  hash_shift_ = 64 - bits;
+  bucket_mask_ = buckets - 1;
   const int coarse_bits = std::min(kMaxCoarseBits, bits - 6);
   const std::size_t partitions = std::size_t{1} << coarse_bits;
   const int fine_bits = bits - coarse_bits;
@@ -225,21 +223,26 @@ void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
   }
 }
 
-void BroadPhaseGrid::pair_with_cell(std::size_t k, std::uint64_t key, bool same_cell,
-                                    std::vector<CandidatePair>& out) const {
-  const std::size_t b = bucket_of(key);
-  // Most neighbour cells are empty: the occupancy bitmap (a few kB, in L1) answers without touching
-  // the bucket table.
-  if (!same_cell && !((occupied_[b >> 6] >> (b & 63)) & 1u)) return;
-  std::size_t first = bucket_start_[b];
-  const std::size_t last = bucket_start_[b + 1];
-  if (same_cell) first = k + 1;
+void BroadPhaseGrid::pair_with_buckets(std::size_t k, std::size_t first_bucket, std::size_t count,
+                                       std::size_t from, std::uint64_t key_lo, std::uint64_t span,
+                                       std::vector<CandidatePair>& out) const {
   const double* a = &slot_box_[6 * k];
-  for (std::size_t m = first; m < last; ++m) {
-    if (slot_key_[m] != key) continue;  // another cell in the same bucket
-    const double* c = &slot_box_[6 * m];
-    if (a[0] <= c[3] && c[0] <= a[3] && a[1] <= c[4] && c[1] <= a[4] && a[2] <= c[5] && c[2] <= a[5])
-      out.push_back(CandidatePair{order_[k], order_[m]});
+  auto scan = [&](std::size_t first, std::size_t last) {
+    for (std::size_t m = first; m < last; ++m) {
+      if (slot_key_[m] - key_lo > span) continue;  // another cell (unsigned: below key_lo wraps high)
+      const double* c = &slot_box_[6 * m];
+      if (a[0] <= c[3] && c[0] <= a[3] && a[1] <= c[4] && c[1] <= a[4] && a[2] <= c[5] && c[2] <= a[5])
+        out.push_back(CandidatePair{order_[k], order_[m]});
+    }
+  };
+  if (first_bucket + count <= bucket_mask_ + 1) {
+    // One contiguous range (`from` lies in the first bucket or before it).
+    scan(std::max<std::size_t>(bucket_start_[first_bucket], from), bucket_start_[first_bucket + count]);
+  } else {
+    for (std::size_t d = 0; d < count; ++d) {  // wraps around the end of the table
+      const std::size_t b = (first_bucket + d) & bucket_mask_;
+      scan(d == 0 ? std::max<std::size_t>(bucket_start_[b], from) : bucket_start_[b], bucket_start_[b + 1]);
+    }
   }
 }
 
@@ -247,8 +250,20 @@ void BroadPhaseGrid::collect_pairs(std::size_t slot_begin, std::size_t slot_end,
                                    std::vector<CandidatePair>& out) const {
   for (std::size_t k = slot_begin; k < slot_end; ++k) {
     const std::uint64_t key = slot_key_[k];
-    pair_with_cell(k, key, true, out);
-    for (std::uint64_t offset : kForwardNeighbours) pair_with_cell(k, key + offset, false, out);
+    // Own row: the same cell (slots after k) and the next z cell, in buckets b and b + 1.
+    pair_with_buckets(k, bucket_of(key), 2, k + 1, key, 1, out);
+    // The forward rows, z cells -1..+1: buckets b' - 1 .. b' + 1.
+    for (std::uint64_t offset : kForwardRows) {
+      const std::uint64_t centre = key + offset;
+      const std::size_t b = (bucket_of(centre) - 1) & bucket_mask_;
+      // Most neighbour rows are empty: the occupancy bitmap (a few kB, in L1) answers.
+      const std::size_t b1 = (b + 1) & bucket_mask_, b2 = (b + 2) & bucket_mask_;
+      if (!(((occupied_[b >> 6] >> (b & 63)) | (occupied_[b1 >> 6] >> (b1 & 63)) |
+             (occupied_[b2 >> 6] >> (b2 & 63))) &
+            1u))
+        continue;
+      pair_with_buckets(k, b, 3, 0, centre - 1, 2, out);
+    }
   }
 }
 

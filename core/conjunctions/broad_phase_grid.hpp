@@ -24,9 +24,11 @@
 // make every pair a neighbour. They are kept out of the grid and tested against every object instead
 // (O(N) each), so one bad object costs O(N), not O(N^2).
 //
-// Cells are hashed (an occupied cell per object at most, in a table of a power of two >= 4 N buckets)
-// and objects are ordered by bucket with a counting sort, so memory and time stay O(N) whatever the
-// domain's size.
+// Cells are hashed into a table of a power of two >= 4 N buckets: a hash of the cell's (x, y) row plus
+// its z index, so the cells along z are consecutive buckets and the 13 forward neighbours are 5 bucket
+// ranges (own cell and z + 1; z - 1..z + 1 of four neighbouring rows); an occupancy bitmap (1 bit per
+// bucket, in L1) skips empty ones. Objects are ordered by bucket with a parallel, stable counting sort,
+// so memory and time stay O(N) whatever the domain's size and the result never depends on threads.
 #pragma once
 
 #include <cstddef>
@@ -74,15 +76,23 @@ class BroadPhaseGrid {
   double cell_size_m() const { return cell_size_m_; }
 
  private:
+  // Bucket of a cell: a hash of its row (x, y) plus its z cell, so the cells of a row along z fall in
+  // consecutive buckets (and, sorted by bucket, in consecutive slots): the three z neighbours of a
+  // cell are one contiguous range, usually on one cache line of the bucket table.
   std::size_t bucket_of(std::uint64_t cell_key) const {
-    return static_cast<std::size_t>((cell_key * 0x9E3779B97F4A7C15ull) >> hash_shift_);
+    const std::uint64_t row = cell_key >> kRowShift;
+    return static_cast<std::size_t>(((row * 0x9E3779B97F4A7C15ull) >> 20) + (cell_key & kZMask)) &
+           bucket_mask_;
   }
-  // Pairs of slot k with the objects of cell `key` (slots after k only when same_cell).
-  void pair_with_cell(std::size_t k, std::uint64_t key, bool same_cell,
-                      std::vector<CandidatePair>& out) const;
+  // Pairs of slot k with the slots of buckets [first_bucket, first_bucket + count) (mod the table;
+  // in the first bucket only from slot `from` on), whose cell keys are in [key_lo, key_lo + span].
+  void pair_with_buckets(std::size_t k, std::size_t first_bucket, std::size_t count, std::size_t from,
+                         std::uint64_t key_lo, std::uint64_t span, std::vector<CandidatePair>& out) const;
 
+  static constexpr int kRowShift = 21;
+  static constexpr std::uint64_t kZMask = (std::uint64_t{1} << kRowShift) - 1;
   double cell_size_m_ = 0.0;
-  int hash_shift_ = 64;
+  std::size_t bucket_mask_ = 0;
   // Per object (population index): grown box and cell key, then per slot (bucket order) copies.
   std::vector<double> lo_x_, lo_y_, lo_z_, hi_x_, hi_y_, hi_z_;
   std::vector<std::uint64_t> key_;

@@ -46,17 +46,19 @@ std::optional<std::string> ConjunctionDetector::validate(const ConjunctionSettin
     why << "dt_s: the step must be a positive number of seconds, got " << dt_s;
     return why.str();
   }
-  if (2.0 * s.screening_distance_m > kDomainEdge_m) {
-    why << "screening_distance_m: " << s.screening_distance_m / 1e3
-        << " km makes the detection cutoff exceed the 20,000 km domain";
-    return why.str();
-  }
+  // The cutoff: largest displacement in a step plus the largest threshold (broad_phase_grid.hpp).
   const double share =
       s.screening_distance_m > 0.0 ? 0.5 * s.screening_distance_m : s.kappa_max * kBoundingRadius_m;
+  const double motion_m = BroadPhaseGrid::cutoff_bound_m(dt_s, 0.0);
   const double cutoff = BroadPhaseGrid::cutoff_bound_m(dt_s, share);
   if (cutoff > kDomainEdge_m) {
-    why << "dt_s: a step of " << dt_s << " s gives a detection cutoff of " << cutoff / 1e3
-        << " km (objects move up to 11.19 km/s), more than the 20,000 km domain";
+    if (s.screening_distance_m > motion_m) {
+      why << "screening_distance_m: " << s.screening_distance_m / 1e3 << " km gives a detection cutoff of "
+          << cutoff / 1e3 << " km, more than the 20,000 km domain";
+    } else {
+      why << "dt_s: a step of " << dt_s << " s gives a detection cutoff of " << cutoff / 1e3
+          << " km (objects move up to 11.19 km/s), more than the 20,000 km domain";
+    }
     return why.str();
   }
   return std::nullopt;

@@ -1,8 +1,10 @@
 #include "core/population/ingest.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <sstream>
 #include <unordered_set>
 
@@ -213,9 +215,23 @@ IngestResult ingest_catalog(const CatalogInput& input, const IngestRules& rules,
                                                           : sgp4_propagate(records[i], minutes);
   }
 
-  const std::vector<std::string> reasons = {"excluded name",     "object type", "perigee below band",
-                                            "apogee above band", "SGP4 failed", "radius below minimum",
-                                            "invalid state",     "max objects"};
+  // Docked vehicles: the first record of each distinct element set stands for the whole stack.
+  std::vector<char> docked(n, 0);
+  if (rules.drop_docked) {
+    std::map<std::array<double, 8>, std::size_t> first_of_set;
+    for (std::size_t i = 0; i < n; ++i) {
+      const MeanElements& el = sets[i].elements;
+      const std::array<double, 8> key = {el.epoch.jd_whole(),        el.epoch.jd_fraction(),
+                                         el.mean_motion_rad_min,     el.eccentricity,
+                                         el.inclination_rad,         el.raan_rad,
+                                         el.argument_of_perigee_rad, el.mean_anomaly_rad};
+      docked[i] = !first_of_set.emplace(key, i).second;
+    }
+  }
+
+  const std::vector<std::string> reasons = {
+      "docked",      "excluded name",        "object type",   "perigee below band", "apogee above band",
+      "SGP4 failed", "radius below minimum", "invalid state", "max objects"};
   std::map<std::string, std::size_t> filtered;
   for (std::size_t i = 0; i < n; ++i) {
     const MeanElements& el = sets[i].elements;
@@ -225,6 +241,10 @@ IngestResult ingest_catalog(const CatalogInput& input, const IngestRules& rules,
     if (entry) ++report.satcat_matched;
     const std::string& name = !el.name.empty() ? el.name : (entry ? entry->name : el.name);
 
+    if (docked[i]) {
+      ++filtered["docked"];
+      continue;
+    }
     if (std::any_of(exclusions.begin(), exclusions.end(),
                     [&](const std::string& p) { return glob_match(p, name); })) {
       ++filtered["excluded name"];

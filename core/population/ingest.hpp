@@ -60,11 +60,15 @@ struct IngestRules {
   double max_epoch_after_start_days = 30.0;
   SizeSampling sizes;
   double drag_coefficient = 2.2;
+  // A vehicle docked to a station is catalogued with a copy of the station's element set: both would sit
+  // at the same point and "collide" once per orbit. Drop every element set identical (epoch and all mean
+  // elements) to an earlier record's, reported as "docked".
+  bool drop_docked = true;
   // Keep at most this many objects, in catalog order (0: all).
   std::uint64_t max_objects = 0;
 
-  // The paper's exclusions: the ISS, Starlink and OneWeb.
-  static std::vector<std::string> paper_exclusions() { return {"ISS (ZARYA)", "STARLINK*", "ONEWEB*"}; }
+  // The paper's exclusions: the ISS (every module catalogued under its name), Starlink and OneWeb.
+  static std::vector<std::string> paper_exclusions() { return {"ISS (*)", "STARLINK*", "ONEWEB*"}; }
 };
 
 // Statistics of one status group, for the report and the validation.

@@ -1,51 +1,27 @@
 // From a validated scenario to a ready-to-run Simulation: the population source, the propagator and the
-// simulation parts. Pieces built on other branches are wired as they land (the __has_include guards
-// keep this file building until then, and go once every piece is in).
+// simulation parts.
 #include "core/scenario/run_builder.hpp"
 
 #include <exception>
 
-#include "core/integration/yoshida_propagator.hpp"
-#include "core/population/leo19647.hpp"
-
-#if __has_include("core/conjunctions/closest_encounters.hpp")
-#define KESSLER_HAVE_DETECTOR 1
 #include "core/conjunctions/detector.hpp"
-#endif
-#if __has_include("core/population/bundled_datasets.hpp")
-#define KESSLER_HAVE_INGEST 1
+#include "core/integration/yoshida_propagator.hpp"
 #include "core/population/bundled_datasets.hpp"
-#endif
-#if __has_include("core/population/synthetic.hpp")
-#define KESSLER_HAVE_SYNTHETIC 1
-#include "core/population/synthetic.hpp"
-#endif
-#if __has_include("core/population/state_table.hpp")
-#define KESSLER_HAVE_STATE_TABLE 1
+#include "core/population/leo19647.hpp"
 #include "core/population/state_table.hpp"
-#endif
-#if __has_include("core/sgp4/sgp4_propagator.hpp")
-#define KESSLER_HAVE_SGP4 1
+#include "core/population/synthetic.hpp"
 #include "core/sgp4/sgp4_propagator.hpp"
-#endif
 
 namespace kessler {
 namespace {
 
-FieldError not_built(const std::string& path, const std::string& what) {
-  return FieldError{path, what + " is not part of this build"};
-}
-
 // The population a scenario names and, for catalogs, the element sets SGP4 needs (by id).
 struct LoadedPopulation {
   Population population;
-#ifdef KESSLER_HAVE_INGEST
   std::vector<ObjectId> element_ids;
   std::vector<MeanElements> elements;
-#endif
 };
 
-#ifdef KESSLER_HAVE_INGEST
 IngestRules ingest_rules_of(const v1::PopulationSource& source) {
   const v1::IngestRules& r = source.rules();
   IngestRules rules;
@@ -54,6 +30,7 @@ IngestRules ingest_rules_of(const v1::PopulationSource& source) {
   if (r.has_max_apogee_km()) rules.max_apogee_km = r.max_apogee_km();
   rules.exclude_names.assign(r.exclude_names().begin(), r.exclude_names().end());
   rules.default_exclusions = !r.no_default_exclusions();
+  rules.drop_docked = !r.keep_docked();
   rules.object_types.assign(r.object_types().begin(), r.object_types().end());
   if (r.has_max_epoch_after_start_days()) rules.max_epoch_after_start_days = r.max_epoch_after_start_days();
   if (r.has_small_radius_mean_m()) rules.sizes.small.mean_m = r.small_radius_mean_m();
@@ -97,30 +74,23 @@ std::optional<FieldError> take(IngestResult result, const std::string& path, Loa
   out.population = std::move(result.population);
   return std::nullopt;
 }
-#endif
 
 std::optional<FieldError> load_population(const v1::Scenario& scenario, const SimulationConfig& config,
                                           const BuildOptions& options, LoadedPopulation& out) {
   const v1::PopulationSource& source = scenario.population();
-  (void)config;
   switch (source.source_case()) {
     case v1::PopulationSource::kDataset: {
       if (source.dataset() == "leo-19647") {
         out.population = load_leo19647(options.datasets_dir + "/leo-19647");
         return std::nullopt;
       }
-#ifdef KESSLER_HAVE_INGEST
       std::string why;
       auto input = load_bundled_catalog(source.dataset(), options.datasets_dir, &why);
       if (!input) return FieldError{"population.dataset", why};
       return take(ingest_catalog(*input, ingest_rules_of(source), config.start_epoch, config.seed),
                   "population.dataset", out);
-#else
-      return not_built("population.dataset", "the catalog-2022 loader");
-#endif
     }
     case v1::PopulationSource::kCatalog: {
-#ifdef KESSLER_HAVE_INGEST
       CatalogInput input;
       input.format = catalog_format_of(source.catalog().format());
       input.text = source.catalog().text();
@@ -131,12 +101,8 @@ std::optional<FieldError> load_population(const v1::Scenario& scenario, const Si
       input.active_list_source = "population.catalog.active_list";
       return take(ingest_catalog(input, ingest_rules_of(source), config.start_epoch, config.seed),
                   "population.catalog", out);
-#else
-      return not_built("population.catalog", "catalog ingest");
-#endif
     }
     case v1::PopulationSource::kSynthetic: {
-#ifdef KESSLER_HAVE_SYNTHETIC
       const v1::SyntheticPopulation& s = source.synthetic();
       SyntheticOptions o;
       o.objects = s.objects();
@@ -150,18 +116,11 @@ std::optional<FieldError> load_population(const v1::Scenario& scenario, const Si
         return FieldError{"population.synthetic", e.what()};
       }
       return std::nullopt;
-#else
-      return not_built("population.synthetic", "the synthetic generator");
-#endif
     }
     case v1::PopulationSource::kStateTable:
-#ifdef KESSLER_HAVE_STATE_TABLE
       return take(read_state_table(source.state_table(), ingest_rules_of(source), config.start_epoch,
                                    "population.state_table"),
                   "population.state_table", out);
-#else
-      return not_built("population.state_table", "the state-table reader");
-#endif
     default:
       return FieldError{"population", "a population source is required"};
   }
@@ -170,7 +129,6 @@ std::optional<FieldError> load_population(const v1::Scenario& scenario, const Si
 std::optional<FieldError> make_parts(const v1::Scenario& scenario, const SimulationConfig& config,
                                      const LoadedPopulation* loaded, SimulationParts& parts) {
   if (scenario.propagator() == v1::PROPAGATOR_SGP4) {
-#ifdef KESSLER_HAVE_SGP4
     if (!loaded || loaded->elements.empty())
       return FieldError{"propagator", "sgp4 needs element sets: a catalog or the catalog-2022 dataset"};
     try {
@@ -179,10 +137,6 @@ std::optional<FieldError> make_parts(const v1::Scenario& scenario, const Simulat
     } catch (const std::invalid_argument& e) {
       return FieldError{"population", e.what()};
     }
-#else
-    (void)loaded;
-    return not_built("propagator", "the sgp4 propagator");
-#endif
   } else {
     auto propagator = std::make_unique<YoshidaPropagator>(config.force_model, config.start_epoch);
     propagator->set_threads(config.threads);
@@ -190,7 +144,6 @@ std::optional<FieldError> make_parts(const v1::Scenario& scenario, const Simulat
   }
   parts.find_burn_ups = &find_burn_ups;
   if (config.conjunctions_enabled) {
-#ifdef KESSLER_HAVE_DETECTOR
     if (auto problem = ConjunctionDetector::validate(config.conjunctions, config.dt_s)) {
       std::string path = "conjunctions";
       if (problem->rfind("kappa_max", 0) == 0) path = "conjunctions.kappa_max";
@@ -199,9 +152,6 @@ std::optional<FieldError> make_parts(const v1::Scenario& scenario, const Simulat
       return FieldError{path, *problem};
     }
     parts.scanner = make_detector_scanner(config.conjunctions);
-#else
-    return not_built("conjunctions", "conjunction detection");
-#endif
   }
   return std::nullopt;
 }

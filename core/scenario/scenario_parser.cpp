@@ -59,6 +59,8 @@ class Mapper {
       const std::string key = kv.first.Scalar();
       const std::string key_path = join_path(path, key);
       const pb::FieldDescriptor* field = desc->FindFieldByName(key);
+      // The protobuf JSON mapping's lowerCamelCase names ("durationDays") are accepted too.
+      if (!field) field = desc->FindFieldByCamelcaseName(key);
       if (!field) {
         std::string known;
         for (int i = 0; i < desc->field_count(); ++i) known += (i ? ", " : "") + desc->field(i)->name();
@@ -122,7 +124,8 @@ class Mapper {
       case T::CPPTYPE_INT32: {
         std::int64_t v = 0;
         auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-        if (quoted || ec == std::errc::invalid_argument || end != text.data() + text.size())
+        if (!integer_text_ok(field, quoted) || ec == std::errc::invalid_argument ||
+            end != text.data() + text.size())
           return FieldError{path, "expected a whole number, got " + describe(node)};
         if (ec == std::errc::result_out_of_range ||
             (field->cpp_type() == T::CPPTYPE_INT32 && (v < INT32_MIN || v > INT32_MAX)))
@@ -136,10 +139,11 @@ class Mapper {
       }
       case T::CPPTYPE_UINT64:
       case T::CPPTYPE_UINT32: {
-        if (!text.empty() && text[0] == '-' && !quoted) return FieldError{path, "must not be negative"};
+        if (!text.empty() && text[0] == '-') return FieldError{path, "must not be negative"};
         std::uint64_t v = 0;
         auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-        if (quoted || ec == std::errc::invalid_argument || end != text.data() + text.size())
+        if (!integer_text_ok(field, quoted) || ec == std::errc::invalid_argument ||
+            end != text.data() + text.size())
           return FieldError{path, "expected a whole number, got " + describe(node)};
         if (ec == std::errc::result_out_of_range ||
             (field->cpp_type() == T::CPPTYPE_UINT32 && v > UINT32_MAX))
@@ -186,6 +190,12 @@ class Mapper {
       default:
         return "a whole number";
     }
+  }
+
+  // The protobuf JSON mapping writes 64-bit integers as strings; 32-bit ones must be plain numbers.
+  static bool integer_text_ok(const pb::FieldDescriptor* field, bool quoted) {
+    using T = pb::FieldDescriptor;
+    return !quoted || field->cpp_type() == T::CPPTYPE_INT64 || field->cpp_type() == T::CPPTYPE_UINT64;
   }
 
   static bool parse_double(const std::string& text, double& v) {

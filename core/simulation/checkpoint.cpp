@@ -1,5 +1,6 @@
 #include "core/simulation/checkpoint.hpp"
 
+#include <bit>
 #include <cstring>
 #include <stdexcept>
 
@@ -20,7 +21,11 @@ class Writer {
     for (int i = 0; i < 4; ++i) u8(static_cast<std::uint8_t>(v >> (8 * i)));
   }
   void u64(std::uint64_t v) {
-    for (int i = 0; i < 8; ++i) u8(static_cast<std::uint8_t>(v >> (8 * i)));
+    if constexpr (std::endian::native == std::endian::little) {
+      out_.append(reinterpret_cast<const char*>(&v), 8);
+    } else {
+      for (int i = 0; i < 8; ++i) u8(static_cast<std::uint8_t>(v >> (8 * i)));
+    }
   }
   void i64(std::int64_t v) { u64(static_cast<std::uint64_t>(v)); }
   void f64(double v) {
@@ -33,7 +38,11 @@ class Writer {
     out_.append(s);
   }
   void doubles(const std::vector<double>& v) {
-    for (double d : v) f64(d);
+    if constexpr (std::endian::native == std::endian::little) {
+      out_.append(reinterpret_cast<const char*>(v.data()), 8 * v.size());
+    } else {
+      for (double d : v) f64(d);
+    }
   }
   std::string& bytes() { return out_; }
 
@@ -84,7 +93,12 @@ class Reader {
   void doubles(std::vector<double>& v, std::size_t n, const char* what) {
     need(8 * n, what);
     v.resize(n);
-    for (auto& d : v) d = f64(what);
+    if constexpr (std::endian::native == std::endian::little) {
+      std::memcpy(v.data(), p_, 8 * n);
+      p_ += 8 * n;
+    } else {
+      for (auto& d : v) d = f64(what);
+    }
   }
   bool at_end() const { return p_ == end_; }
 

@@ -22,7 +22,7 @@ struct CheckpointState {
   std::uint64_t objects_initial = 0;
   double wall_s = 0.0;                      // wall time spent before this checkpoint (progress and ETA only)
   std::string events_digest_state;          // Sha256 running state over every event so far
-  std::vector<Encounter> closest_per_pair;  // the closest encounter of every pair so far, sorted by ids
+  std::vector<Encounter> closest_per_pair;  // the closest encounter of every pair so far (canonical order)
   Population population;
 };
 

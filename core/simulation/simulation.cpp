@@ -6,11 +6,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <map>
 #include <stdexcept>
 #include <thread>
 #include <utility>
 
+#include "core/conjunctions/closest_encounters.hpp"
 #include "core/simulation/checkpoint.hpp"
 #include "core/simulation/sha256.hpp"
 
@@ -101,12 +101,6 @@ std::string state_digest(const Population& p) {
   return h.hex_digest();
 }
 
-// Closer wins; at equal distance the earlier one.
-bool closer(const Encounter& a, const Encounter& b) {
-  if (a.miss_distance_m != b.miss_distance_m) return a.miss_distance_m < b.miss_distance_m;
-  return a.tca_s < b.tca_s;
-}
-
 }  // namespace
 
 std::int64_t total_steps_of(const SimulationConfig& config) {
@@ -127,7 +121,7 @@ struct Simulation::State {
   std::uint64_t objects_initial = 0;
   double wall_before_s = 0.0;  // wall time of earlier sessions (resumed runs)
   Sha256 events_hash;
-  std::map<std::pair<ObjectId, ObjectId>, Encounter> closest;
+  ClosestEncounterTable closest;
   std::int64_t last_checkpoint_step = -1;
 
   CheckpointState snapshot(double wall_s) const {
@@ -145,8 +139,7 @@ struct Simulation::State {
     c.objects_initial = objects_initial;
     c.wall_s = wall_s;
     c.events_digest_state = events_hash.save_state();
-    c.closest_per_pair.reserve(closest.size());
-    for (const auto& [pair, e] : closest) c.closest_per_pair.push_back(e);
+    c.closest_per_pair = closest.entries();
     c.population = population;
     return c;
   }
@@ -185,7 +178,7 @@ std::unique_ptr<Simulation> Simulation::resume(const SimulationConfig& config, c
   s.wall_before_s = c.wall_s;
   if (!s.events_hash.restore_state(c.events_digest_state))
     throw std::runtime_error("checkpoint: events digest state is malformed");
-  for (const auto& e : c.closest_per_pair) s.closest.emplace(std::make_pair(e.id1, e.id2), e);
+  for (const auto& e : c.closest_per_pair) s.closest.update(e);
   s.last_checkpoint_step = c.step;
   return sim;
 }
@@ -203,10 +196,7 @@ std::int64_t Simulation::total_steps() const {
 }
 
 std::vector<Encounter> Simulation::closest_encounters() const {
-  std::vector<Encounter> out;
-  out.reserve(state_->closest.size());
-  for (const auto& [pair, e] : state_->closest) out.push_back(e);
-  return out;
+  return state_->closest.entries();
 }
 
 std::string Simulation::checkpoint() const {
@@ -309,8 +299,7 @@ RunSummary Simulation::run(EventSink& sink, RunControl& control) {
         else
           ++s.conjunctions;
         if (e.kind == EncounterKind::kCollision) ++s.collisions;
-        auto [it, inserted] = s.closest.try_emplace(std::make_pair(e.id1, e.id2), e);
-        if (!inserted && closer(e, it->second)) it->second = e;
+        s.closest.update(e);
         sink.on_encounter(seq, e);
       }
       for (const BurnUp& b : burned) {

@@ -67,7 +67,7 @@ class Simulation {
   const Population& population() const;
   std::int64_t step() const;
   std::int64_t total_steps() const;
-  // The closest encounter of every pair seen so far, ordered by (id1, id2).
+  // The closest encounter of every pair seen so far, in canonical order (time, then ids).
   std::vector<Encounter> closest_encounters() const;
   // The checkpoint of the current state (what on_checkpoint receives), e.g. for a host's own triggers
   // between runs.

@@ -140,5 +140,21 @@ TEST(Reference, BitwiseIdenticalForOneTwoAndFourThreads) {
   }
 }
 
+TEST(Reference, SixteenThreadsMatchOneOnTheFirstSteps) {
+  const RandomLeo& scenario = random_leo(false);
+  const std::vector<StateArrays> first(scenario.snaps.begin(), scenario.snaps.begin() + 31);
+  ConjunctionSettings s;
+  s.screening_distance_m = 20e3;
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const auto one = testing::run_detector(scenario.population, first, kDt, s);
+  omp_set_num_threads(16);
+  const auto sixteen = testing::run_detector(scenario.population, first, kDt, s);
+  omp_set_num_threads(saved);
+  ASSERT_GT(one.size(), 20u);
+  ASSERT_EQ(sixteen.size(), one.size());
+  for (std::size_t k = 0; k < one.size(); ++k) ASSERT_TRUE(bitwise_equal(sixteen[k], one[k])) << k;
+}
+
 }  // namespace
 }  // namespace kessler

@@ -7,7 +7,8 @@ official Python port), not the project's code. Run from the repository root:
     /usr/bin/python3 tests/population/independent_catalog_check.py
 
 It reads the 3LE catalog, the Space-Track SATCAT (gzip) and the CelesTrak active list, applies the
-paper's rules as the project documents them (name exclusions ISS (ZARYA), STARLINK*, ONEWEB*; perigee
+paper's rules as the project documents them (element sets repeated from an earlier record dropped as docked;
+name exclusions ISS (*), STARLINK*, ONEWEB*; perigee
 >= 175 km and apogee <= 2000 km of the SGP4 mean elements over 6378.135 km; SGP4 to
 2022-01-01T00:00:00Z; active = on the active list), and the radius/mass rules with the documented
 counter-based generator (SplitMix64 finaliser, Box-Muller), re-implemented here from the spec.
@@ -65,7 +66,8 @@ with open(ROOT + '2026-03-10_celestrak_active_gp.csv', newline='') as f:
         active_ids.add(int(row['NORAD_CAT_ID']))
 
 records = bad = 0
-counts = dict.fromkeys(['excluded name', 'perigee below band', 'apogee above band', 'SGP4 failed'], 0)
+seen_sets = set()
+counts = dict.fromkeys(['docked', 'excluded name', 'perigee below band', 'apogee above band', 'SGP4 failed'], 0)
 jd, fr = jday(2022, 1, 1, 0, 0, 0)
 kept = {'active': [], 'passive': []}
 samples = {}
@@ -76,7 +78,12 @@ for i in range(0, len(lines), 3):
         bad += 1
         continue
     sat = Satrec.twoline2rv(l1, l2)
-    if any(fnmatch.fnmatchcase(name.upper(), p) for p in ['ISS (ZARYA)', 'STARLINK*', 'ONEWEB*']):
+    key = (l1[18:32], l2[8:63])  # epoch and the mean elements, as written
+    if key in seen_sets:
+        counts['docked'] += 1
+        continue
+    seen_sets.add(key)
+    if any(fnmatch.fnmatchcase(name.upper(), p) for p in ['ISS (*)', 'STARLINK*', 'ONEWEB*']):
         counts['excluded name'] += 1
         continue
     a_km = sat.a * 6378.135

@@ -37,6 +37,9 @@ progress_every_steps: 50
 seed: 42
 )",
      ""},
+    {"protobuf json names", R"({"durationDays": 2, "dtS": 5, "seed": "42", "progressEverySteps": "10",
+        "population": {"dataset": "leo-19647", "maxObjects": "100"}})",
+     ""},
     {"end epoch", "end_epoch: 2022-03-02T00:00:00Z\npopulation: {dataset: leo-19647}", ""},
     {"leo-19647 epoch", "start_epoch: 2022-01-01T00:00:00Z\npopulation: {dataset: leo-19647}",
      "start_epoch: must be the leo-19647 states' epoch, 2022-03-01T00:00:00Z (or left out)"},

@@ -78,9 +78,12 @@ TEST(Simulation, SequenceNumbersAreGaplessAndOrderedWithinASTep) {
     if (ev[i - 1].type == 2) continue;
     EXPECT_LE(ev[i - 1].type, ev[i].type == 2 ? 2 : ev[i].type) << "event " << i;
     if (ev[i - 1].type == 0 && ev[i].type == 0 &&
-        std::floor(ev[i - 1].encounter.tca_s / 10) == std::floor(ev[i].encounter.tca_s / 10))
+        std::floor(ev[i - 1].encounter.tca_s / 10) == std::floor(ev[i].encounter.tca_s / 10)) {
       EXPECT_FALSE(canonical_less(ev[i].encounter, ev[i - 1].encounter));
-    if (ev[i - 1].type == 1 && ev[i].type == 1) EXPECT_LT(ev[i - 1].burn_up.id, ev[i].burn_up.id);
+    }
+    if (ev[i - 1].type == 1 && ev[i].type == 1) {
+      EXPECT_LT(ev[i - 1].burn_up.id, ev[i].burn_up.id);
+    }
   }
   EXPECT_EQ(run->summary.events, run->summary.conjunctions + run->summary.evasions + run->summary.burn_ups);
 }

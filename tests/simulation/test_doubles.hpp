@@ -156,11 +156,17 @@ inline SimulationConfig test_config(std::int64_t steps = 240, int threads = 1) {
   return c;
 }
 
+inline Encounter blank_encounter() {
+  Encounter e;
+  e.r1_m = e.v1_m_s = e.r2_m = e.v2_m_s = Eigen::Vector3d::Zero();
+  return e;
+}
+
 // Every event as it arrived, for exact comparison.
 struct RecordedEvent {
   std::uint64_t seq;
   int type;  // 0 encounter, 1 burn-up, 2 progress
-  Encounter encounter;
+  Encounter encounter = blank_encounter();
   BurnUp burn_up;
   Progress progress;
 };
@@ -195,8 +201,12 @@ class RecordingSink : public EventSink {
   std::string failure;
 
   void on_encounter(std::uint64_t seq, const Encounter& e) override { events.push_back({seq, 0, e, {}, {}}); }
-  void on_burn_up(std::uint64_t seq, const BurnUp& b) override { events.push_back({seq, 1, {}, b, {}}); }
-  void on_progress(std::uint64_t seq, const Progress& p) override { events.push_back({seq, 2, {}, {}, p}); }
+  void on_burn_up(std::uint64_t seq, const BurnUp& b) override {
+    events.push_back({seq, 1, blank_encounter(), b, {}});
+  }
+  void on_progress(std::uint64_t seq, const Progress& p) override {
+    events.push_back({seq, 2, blank_encounter(), {}, p});
+  }
   void on_checkpoint(std::uint64_t last_seq, std::int64_t step, const std::string& bytes) override {
     checkpoints.push_back({last_seq, step, bytes});
   }
