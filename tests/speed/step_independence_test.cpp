@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/integration/yoshida_propagator.hpp"
+#include "core/population/leo19647.hpp"
 #include "core/population/synthetic.hpp"
 #include "core/simulation/simulation.hpp"
 
@@ -49,8 +50,10 @@ Population shell_population() {
   return generate_synthetic(options, 11);
 }
 
-std::vector<Encounter> encounters_at(double dt_s, double duration_s) {
-  SimulationConfig config;
+std::vector<Encounter> encounters_at(double dt_s, double duration_s,
+                                     Population population = shell_population(),
+                                     const SimulationConfig& base = SimulationConfig{}) {
+  SimulationConfig config = base;
   config.duration_s = duration_s;
   config.dt_s = dt_s;
   config.conjunctions.screening_distance_m = kScreening_m;
@@ -59,7 +62,7 @@ std::vector<Encounter> encounters_at(double dt_s, double duration_s) {
   // One thread: results are the same for any count, and OpenMP barriers on a loaded CI machine cost more
   // than a second thread gains at this size.
   config.threads = 1;
-  Simulation simulation(config, shell_population(),
+  Simulation simulation(config, std::move(population),
                         std::make_unique<YoshidaPropagator>(config.force_model, config.start_epoch));
   CollectingSink sink;
   RunControl control;
@@ -136,6 +139,33 @@ TEST(StepIndependence, FiveAndTenSecondStepsFindTheSameConjunctions) {
 
 TEST(StepIndependence, TwentyAndTenSecondStepsFindTheSameConjunctions) {
   expect_same_events(20.0, 10.0, 6 * 3600.0);
+}
+
+// The pairs of the one-day leo-19647 check (5 km, dt 10 vs 5 s) whose miss distances differed most,
+// with the dataset's physics (J2, C22/S22, drag on its density fit, no SRP). Each involves an object
+// whose perigee dips to ~190..215 km: 14524 (perigee 191 km) meets 17248 at t = 14,002 s (857 m at dt
+// 10 s, 786 m at dt 5 s); 17610 (perigee 213 km) meets 95 at t = 78,077 s (1583 / 1377 m). The
+// propagator is only first order in dt while drag acts (the kick takes drag at the velocity before the
+// kick; see /work/notes/speed.md), so this fails today. Enable it once the drag kick is symmetric.
+TEST(StepIndependence, DISABLED_LowPerigeeObjectsWithDrag) {
+  const Population all = load_leo19647(std::string(KESSLER_DATASETS_DIR) + "/leo-19647");
+  for (const auto& [first, second, duration_s] : {std::make_tuple(ObjectId{14524}, ObjectId{17248}, 14100.0),
+                                                  std::make_tuple(ObjectId{95}, ObjectId{17610}, 78100.0)}) {
+    Population pair;
+    for (std::size_t i = 0; i < all.size(); ++i)
+      if (all.id[i] == first || all.id[i] == second) pair.add(all.record(i));
+    ASSERT_EQ(pair.size(), 2u);
+    SimulationConfig config;
+    config.start_epoch = leo19647_epoch();
+    config.force_model.srp = false;
+    config.force_model.atmosphere = AtmosphereModel::kExponentialFit;
+    const auto a = encounters_at(10.0, duration_s, pair, config);
+    const auto b = encounters_at(5.0, duration_s, pair, config);
+    const Comparison ab = compare(a, b), ba = compare(b, a);
+    EXPECT_GE(ab.required, 1u) << first << ", " << second;
+    EXPECT_EQ(ab.missing + ab.miss_differs + ba.missing + ba.miss_differs, 0u)
+        << first << ", " << second << ": " << ab.first_problem << "; " << ba.first_problem;
+  }
 }
 
 // The comparison itself: a shifted miss distance or a lost event is caught.
