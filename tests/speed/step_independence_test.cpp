@@ -146,7 +146,8 @@ TEST(StepIndependence, TwentyAndTenSecondStepsFindTheSameConjunctions) {
 // whose perigee dips to ~190..215 km: 14524 (perigee 191 km) meets 17248 at t = 14,002 s (857 m at dt
 // 10 s, 786 m at dt 5 s); 17610 (perigee 213 km) meets 95 at t = 78,077 s (1583 / 1377 m). The
 // propagator is only first order in dt while drag acts (the kick takes drag at the velocity before the
-// kick; see /work/notes/speed.md), so this fails today. Enable it once the drag kick is symmetric.
+// kick; see the README's performance section), so this fails today. Enable it once the drag kick is
+// symmetric.
 TEST(StepIndependence, DISABLED_LowPerigeeObjectsWithDrag) {
   const Population all = load_leo19647(std::string(KESSLER_DATASETS_DIR) + "/leo-19647");
   for (const auto& [first, second, duration_s] : {std::make_tuple(ObjectId{14524}, ObjectId{17248}, 14100.0),
