@@ -1,0 +1,326 @@
+// kessler-bench run: the whole simulation in-process through the real Simulation (Yoshida propagator,
+// burn-up, conjunction detection, event assembly) with a counting sink (no I/O unless --events-out).
+//
+//   leo-19647: the dataset with J2, C22/S22 and drag under the dataset's density fit, SRP off (the
+//              physics of cascade's published benchmark); --objects N takes the first N objects.
+//   paper:     the bundled 2022 catalog after the paper's filters (ingest, SGP4 to 2022-01-01), full
+//              force model (Kepler, J2, C22/S22, drag on the density table, SRP with shadow).
+//   synthetic: the seeded synthetic generator with --objects N (full force model).
+//
+// Reports wall and process CPU time, core seconds per simulated day (wall x threads / days), cost per
+// object-step, the phase timers, peak RSS and memory per object. Checkpoints are off.
+#include <omp.h>
+#include <sys/resource.h>
+#include <time.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <set>
+#include <string>
+#include <utility>
+
+#include "core/conjunctions/detector.hpp"
+#include "core/integration/yoshida_propagator.hpp"
+#include "core/population/bundled_datasets.hpp"
+#include "core/population/ingest.hpp"
+#include "core/population/leo19647.hpp"
+#include "core/population/synthetic.hpp"
+#include "core/simulation/simulation.hpp"
+#include "core/simulation/simulation_parts.hpp"
+#include "tests/bench/bench.hpp"
+
+namespace kessler::bench {
+namespace {
+
+// The default step. The step-independence check decides what may go here (tests/speed, and the one-day
+// leo-19647 check of the README's performance section): it fails for a few low-perigee objects with
+// drag already between 10 and 5 s, so no larger default is allowed.
+constexpr double kDefaultDt_s = 10.0;
+
+double process_cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// Resident set size now [bytes], from /proc/self/statm (0 where unavailable).
+std::int64_t current_rss_bytes() {
+  std::ifstream statm("/proc/self/statm");
+  long long pages_total = 0, pages_resident = 0;
+  if (!(statm >> pages_total >> pages_resident)) return 0;
+  return static_cast<std::int64_t>(pages_resident) * 4096;
+}
+
+std::int64_t peak_rss_bytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<std::int64_t>(usage.ru_maxrss) * 1024;  // Linux reports kilobytes
+}
+
+// Counts events; writes encounters as CSV when given a file (for comparisons between runs).
+class CountingSink final : public EventSink {
+ public:
+  explicit CountingSink(std::FILE* events_out) : out_(events_out) {
+    if (out_) std::fprintf(out_, "id1,id2,tca_s,miss_m,kind\n");
+  }
+  void on_encounter(std::uint64_t, const Encounter& e) override {
+    ++encounters;
+    pairs.emplace(e.id1, e.id2);
+    if (out_)
+      std::fprintf(out_, "%llu,%llu,%.9f,%.6f,%d\n", static_cast<unsigned long long>(e.id1),
+                   static_cast<unsigned long long>(e.id2), e.tca_s, e.miss_distance_m,
+                   static_cast<int>(e.kind));
+  }
+  void on_burn_up(std::uint64_t, const BurnUp&) override { ++burn_ups; }
+  void on_progress(std::uint64_t, const Progress&) override { ++progress; }
+  void on_checkpoint(std::uint64_t, std::int64_t, const std::string&) override {}
+  void on_finished(const RunSummary&) override {}
+  void on_failed(const std::string& reason) override {
+    std::cerr << "kessler-bench run: failed: " << reason << "\n";
+  }
+
+  std::uint64_t encounters = 0, burn_ups = 0, progress = 0;
+  std::set<std::pair<ObjectId, ObjectId>> pairs;
+
+ private:
+  std::FILE* out_;
+};
+
+// The project's parts, each wrapped to add up the process CPU time it takes: the phase timers of the
+// summary are wall time, which on a shared machine counts the time other programs hold the core.
+class CpuTimedPropagator final : public Propagator {
+ public:
+  explicit CpuTimedPropagator(std::unique_ptr<Propagator> inner) : inner_(std::move(inner)) {}
+  void step(Population& population, double t_start_s, double dt_s) override {
+    const double start = process_cpu_s();
+    inner_->step(population, t_start_s, dt_s);
+    cpu_s += process_cpu_s() - start;
+  }
+  double cpu_s = 0.0;
+
+ private:
+  std::unique_ptr<Propagator> inner_;
+};
+
+class CpuTimedScanner final : public EncounterScanner {
+ public:
+  explicit CpuTimedScanner(std::unique_ptr<EncounterScanner> inner) : inner_(std::move(inner)) {}
+  void scan(const Population& population, const StepEnds& step, std::vector<Encounter>& out) override {
+    const double start = process_cpu_s();
+    inner_->scan(population, step, out);
+    cpu_s += process_cpu_s() - start;
+  }
+  double last_grid_s() const override { return inner_->last_grid_s(); }
+  double cpu_s = 0.0;
+
+ private:
+  std::unique_ptr<EncounterScanner> inner_;
+};
+
+Population first_n(Population all, std::size_t n) {
+  if (n == 0 || n >= all.size()) return all;
+  Population p;
+  p.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) p.add(all.record(i));
+  return p;
+}
+
+int run(int argc, char** argv) {
+  Args args(argc, argv);
+  args.allow_only({"--dataset", "--objects", "--days", "--threads", "--kappa", "--screen-km", "--dt",
+                   "--events-out", "--seed", "--no-detection", "--narrow"});
+  const std::string dataset = args.get("--dataset", "leo-19647");
+  const double days = args.get_double("--days", 1.0);
+  const int threads = static_cast<int>(args.get_int("--threads", 1));
+  const double dt = args.get_double("--dt", kDefaultDt_s);
+  const std::int64_t objects_wanted = args.get_int("--objects", dataset == "synthetic" ? 20000 : 0);
+  const auto seed = static_cast<std::uint64_t>(args.get_int("--seed", 1));
+  const std::string narrow = args.get("--narrow", "hermite");
+  if (dataset != "leo-19647" && dataset != "paper" && dataset != "synthetic") {
+    std::cerr << "kessler-bench run: --dataset is leo-19647, paper or synthetic, got '" << dataset << "'\n";
+    return 2;
+  }
+  if (!(days > 0.0) || threads <= 0 || !(dt > 0.0) || objects_wanted < 0) {
+    std::cerr << "kessler-bench run: --days and --dt must be positive, --threads >= 1, --objects >= 0\n";
+    return 2;
+  }
+  if (args.has("--kappa") && args.has("--screen-km")) {
+    std::cerr << "kessler-bench run: give --kappa or --screen-km, not both\n";
+    return 2;
+  }
+  if (narrow != "hermite" && narrow != "linear") {
+    std::cerr << "kessler-bench run: --narrow is hermite or linear\n";
+    return 2;
+  }
+
+  SimulationConfig config;
+  config.duration_s = days * 86400.0;
+  config.dt_s = dt;
+  config.threads = threads;
+  config.seed = seed;
+  config.checkpoint_every_steps = 0;
+  config.checkpoint_every_wall_s = 0.0;
+  config.conjunctions_enabled = !args.has("--no-detection");
+  config.conjunctions.kappa_max = args.get_double("--kappa", 10.0);
+  config.conjunctions.screening_distance_m = args.get_double("--screen-km", 0.0) * 1e3;
+  config.conjunctions.narrow_phase = narrow == "linear" ? NarrowPhase::kLinear : NarrowPhase::kHermite;
+  if (config.conjunctions_enabled) {
+    if (auto problem = ConjunctionDetector::validate(config.conjunctions, config.dt_s)) {
+      std::cerr << "kessler-bench run: " << *problem << "\n";
+      return 2;
+    }
+  }
+  if (total_steps_of(config) < 1) {
+    std::cerr << "kessler-bench run: --days shorter than one step of --dt\n";
+    return 2;
+  }
+
+  const std::int64_t rss_before = current_rss_bytes();
+  const double load_start = now_s();
+  Population population;
+  try {
+    if (dataset == "leo-19647") {
+      config.start_epoch = leo19647_epoch();
+      config.force_model.srp = false;
+      config.force_model.atmosphere = AtmosphereModel::kExponentialFit;
+      population = first_n(load_leo19647(default_datasets_dir() + "/leo-19647"),
+                           static_cast<std::size_t>(objects_wanted));
+    } else if (dataset == "paper") {
+      std::string error;
+      auto input = load_bundled_catalog("catalog-2022", default_datasets_dir(), &error);
+      if (!input) {
+        std::cerr << "kessler-bench run: " << error << "\n";
+        return 1;
+      }
+      IngestResult ingested = ingest_catalog(*input, IngestRules{}, config.start_epoch, seed);
+      if (ingested.refused) {
+        std::cerr << "kessler-bench run: catalog refused: " << ingested.error << "\n";
+        return 1;
+      }
+      population = first_n(std::move(ingested.population), static_cast<std::size_t>(objects_wanted));
+    } else {
+      SyntheticOptions options;
+      options.objects = static_cast<std::uint64_t>(objects_wanted);
+      population = generate_synthetic(options, seed);
+    }
+    validate_for_propagation(population);
+  } catch (const std::exception& e) {
+    std::cerr << "kessler-bench run: " << dataset << ": " << e.what() << "\n";
+    return 1;
+  }
+  const double load_s = now_s() - load_start;
+  if (population.size() == 0) {
+    std::cerr << "kessler-bench run: " << dataset << ": no objects to simulate (--objects)\n";
+    return 2;
+  }
+  const std::size_t objects = population.size();
+
+  std::FILE* events_out = nullptr;
+  if (args.has("--events-out")) {
+    events_out = std::fopen(args.get("--events-out", "").c_str(), "w");
+    if (!events_out) {
+      std::cerr << "kessler-bench run: cannot write " << args.get("--events-out", "") << "\n";
+      return 1;
+    }
+  }
+
+  omp_set_num_threads(threads);
+  auto propagator = std::make_unique<YoshidaPropagator>(config.force_model, config.start_epoch);
+  propagator->set_threads(threads);
+  RunSummary summary;
+  CountingSink sink(events_out);
+  double wall = 0.0, cpu = 0.0, integrator_cpu = 0.0, detection_cpu = 0.0;
+  SimulationParts parts = default_parts(config, std::move(propagator));
+  auto timed_propagator = std::make_unique<CpuTimedPropagator>(std::move(parts.propagator));
+  CpuTimedPropagator& propagator_cpu = *timed_propagator;
+  parts.propagator = std::move(timed_propagator);
+  CpuTimedScanner* scanner_cpu = nullptr;
+  if (parts.scanner) {
+    auto timed_scanner = std::make_unique<CpuTimedScanner>(std::move(parts.scanner));
+    scanner_cpu = timed_scanner.get();
+    parts.scanner = std::move(timed_scanner);
+  }
+  try {
+    Simulation simulation(config, std::move(population), std::move(parts));
+    RunControl control;
+    const double wall_start = now_s(), cpu_start = process_cpu_s();
+    summary = simulation.run(sink, control);
+    wall = now_s() - wall_start;
+    cpu = process_cpu_s() - cpu_start;
+    // Read while the simulation (which owns the parts) lives.
+    integrator_cpu = propagator_cpu.cpu_s;
+    detection_cpu = scanner_cpu ? scanner_cpu->cpu_s : 0.0;
+  } catch (const std::exception& e) {
+    std::cerr << "kessler-bench run: " << e.what() << "\n";
+    if (events_out) std::fclose(events_out);
+    return 1;
+  }
+  if (events_out) std::fclose(events_out);
+
+  const std::int64_t peak = peak_rss_bytes();
+  const double sim_days = summary.sim_time_s / 86400.0;
+  // Object-steps: objects alive at the start of each step; burn-ups change it by a few per mille.
+  const double object_steps = static_cast<double>(objects) * static_cast<double>(summary.steps);
+  const auto& t = summary.timers;
+  std::printf("%s: %zu objects, %lld steps of %g s, %d thread(s), load %.1f s\n", dataset.c_str(), objects,
+              static_cast<long long>(summary.steps), dt, threads, load_s);
+  std::printf(
+      "phases [s]: integrator %.2f, burn-up %.2f, grid %.2f, detection %.2f, output %.2f, total %.2f\n",
+      t.integrator_s, t.burn_up_s, t.grid_s, t.detection_s, t.output_s, t.total_s);
+  double loadavg[1] = {0.0};
+  if (getloadavg(loadavg, 1) < 1) loadavg[0] = NAN;
+  JsonLine()
+      .add("benchmark", std::string("run"))
+      .add("dataset", dataset)
+      .add("objects", static_cast<std::int64_t>(objects))
+      .add("days", sim_days)
+      .add("dt_s", dt)
+      .add("steps", summary.steps)
+      .add("threads", static_cast<std::int64_t>(threads))
+      .add("kappa_max", config.conjunctions.screening_distance_m > 0 ? 0.0 : config.conjunctions.kappa_max)
+      .add("screening_km", config.conjunctions.screening_distance_m / 1e3)
+      .add("detection", std::string(config.conjunctions_enabled ? narrow : "off"))
+      .add("wall_s", wall)
+      .add("cpu_s", cpu)
+      .add("core_s_per_sim_day", wall * threads / sim_days)
+      .add("cpu_s_per_sim_day", cpu / sim_days)
+      .add("ns_per_object_step", wall * threads * 1e9 / object_steps)
+      .add("cpu_ns_per_object_step", cpu * 1e9 / object_steps)
+      .add("events", static_cast<std::int64_t>(summary.events))
+      .add("encounters", static_cast<std::int64_t>(sink.encounters))
+      .add("conjunctions", static_cast<std::int64_t>(summary.conjunctions))
+      .add("collisions", static_cast<std::int64_t>(summary.collisions))
+      .add("evasions", static_cast<std::int64_t>(summary.evasions))
+      .add("burn_ups", static_cast<std::int64_t>(summary.burn_ups))
+      .add("distinct_pairs", static_cast<std::int64_t>(sink.pairs.size()))
+      .add("objects_final", static_cast<std::int64_t>(summary.objects_final))
+      .add("integrator_s", t.integrator_s)
+      .add("burn_up_s", t.burn_up_s)
+      .add("grid_s", t.grid_s)
+      .add("detection_s", t.detection_s)
+      .add("output_s", t.output_s)
+      .add("checkpoint_s", t.checkpoint_s)
+      .add("total_s", t.total_s)
+      .add("integrator_cpu_s", integrator_cpu)
+      .add("detection_cpu_s", detection_cpu)
+      .add("other_cpu_s", cpu - integrator_cpu - detection_cpu)
+      .add("peak_rss_bytes", peak)
+      .add("bytes_per_object", static_cast<double>(peak - rss_before) / static_cast<double>(objects))
+      .add("load_average", loadavg[0])
+      .add("events_digest", summary.events_digest)
+      .print();
+  return 0;
+}
+
+}  // namespace
+
+KESSLER_BENCH("run",
+              "the whole simulation: --dataset leo-19647|paper|synthetic [--objects N] --days D --threads T "
+              "[--kappa K | --screen-km S] [--dt SECONDS] [--events-out FILE] [--no-detection] "
+              "[--narrow hermite|linear] [--seed S]",
+              run);
+
+}  // namespace kessler::bench
