@@ -49,6 +49,10 @@ double median(std::vector<double> values);
 // Seconds of a steady clock.
 double now_s();
 
+// CPU seconds of the whole process (all threads): unlike wall time, it does not count the time other
+// programs on a shared machine take the cores away.
+double process_cpu_s();
+
 }  // namespace kessler::bench
 
 #define KESSLER_BENCH_CONCAT_(a, b) a##b

@@ -20,12 +20,6 @@
 namespace kessler::bench {
 namespace {
 
-double process_cpu_s() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
 Population first_objects(const std::string& dir, std::size_t objects) {
   const Population base = load_leo19647(dir);
   Population p;

@@ -15,14 +15,6 @@
 namespace kessler::bench {
 namespace {
 
-// CPU time of the whole process (all threads) [s]: unlike wall time, it does not count the time other
-// programs on a shared machine take the core away.
-double process_cpu_s() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
 Population make_population(const std::string& dir, std::size_t objects) {
   const Population base = load_leo19647(dir);
   Population p;

@@ -40,12 +40,6 @@ namespace {
 // drag already between 10 and 5 s, so no larger default is allowed.
 constexpr double kDefaultDt_s = 10.0;
 
-double process_cpu_s() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
 // Resident set size now [bytes], from /proc/self/statm (0 where unavailable).
 std::int64_t current_rss_bytes() {
   std::ifstream statm("/proc/self/statm");

@@ -1,3 +1,5 @@
+#include <time.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -128,6 +130,12 @@ double median(std::vector<double> values) {
 
 double now_s() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+double process_cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
 }  // namespace kessler::bench
