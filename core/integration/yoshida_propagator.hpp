@@ -8,10 +8,14 @@
 // depends on that object alone and uses only IEEE-exact operations (no FMA contraction, no libm), so
 // the result is bitwise identical for any thread count and any vector/scalar split.
 //
-// Drag depends on velocity; a kick uses the velocity as it stands at that sub-step (as the paper's
-// integrator does), so with drag the scheme is symplectic only in its conservative part. Deep in the
-// atmosphere (below about 100 km) explicit kicks go unstable; there the drag rate is capped so that a
-// kick changes the relative velocity by at most 25 % (never active above the 150 km burn-up altitude).
+// Drag depends on velocity. Each kick of length h (= d_i dt) is therefore itself a symmetric splitting
+// at its fixed position (force_model.hpp, kick): drag's exact flow over h/2, the velocity-independent
+// kick, drag's exact flow over h/2 again. The kick is then time-symmetric, so the drift-kick-drift base
+// step is symmetric and Yoshida's composition stays 4th order with drag (measured: tests/physics,
+// Yoshida.LowPerigeeDragKeepsFourthOrder); with drag the scheme is symplectic only in its conservative
+// part. Deep in the atmosphere (below about 100 km) the drag rate is capped so that
+// rate x |h| <= kDragRateLimitPerKick over the longest kick, which keeps the exact drag flow finite in the
+// negative middle kick (never active above the 150 km burn-up altitude).
 //
 // Input checks: step() refuses inconsistent arrays and a non-finite or non-positive dt
 // (std::invalid_argument). Physical soundness of each object (finite states above the surface, positive
@@ -41,8 +45,8 @@ class YoshidaPropagator final : public Propagator {
   static constexpr double kW0 = -1.7024143839193153;  // -2^(1/3) / (2 - 2^(1/3))
   static constexpr double kC1 = kW1 / 2.0, kC2 = (kW0 + kW1) / 2.0;
   static constexpr double kD1 = kW1, kD2 = kW0;
-  // Largest fraction of the relative velocity one kick's drag may remove (or, in the negative kick,
-  // add); reached only far below the burn-up altitude (see drag.hpp).
+  // Cap on drag rate (1/2 rho Cd A/m |v_rel|) x kick length: each of a kick's two drag half-flows scales
+  // v_rel by at most 1/(1 -+ 1/8); reached only far below the burn-up altitude (see drag.hpp).
   static constexpr double kDragRateLimitPerKick = 0.25;
 
  private:

@@ -4,6 +4,10 @@
 // with step dt is unstable once k dt approaches 1, which only happens deep in the atmosphere (below about
 // 100 km for Cd A/m = 1 and dt = 10 s), where objects have burnt up already. The cap keeps such states
 // bounded instead of exploding; above it the formula is exact (the default limit is infinite).
+//
+// drag_flow() is drag alone over a time h at a fixed position, solved exactly: the propagator's kicks
+// use it (half before and half after the velocity-independent kick) so that each kick, and hence the
+// whole Yoshida step, stays time-symmetric with drag (yoshida_propagator.hpp).
 #pragma once
 
 #include <cmath>
@@ -29,6 +33,31 @@ namespace kessler {
   ax = f * vrx;
   ay = f * vry;
   az = f * vrz;
+}
+
+// Drag alone over h_s seconds at a fixed position. With r fixed, k = 1/2 rho (Cd A/m) and omega_E x r
+// are constant, so v_rel' = v' = -k |v_rel| v_rel, whose exact solution is
+//   v_rel(h) = v_rel(0) / (1 + k |v_rel(0)| h),
+// a true flow (drag_flow(-h) undoes drag_flow(h)), valid for negative h while 1 + k |v_rel| h > 0. The
+// rate k |v_rel| is capped at rate_limit_per_s as in drag_acceleration; the propagator's cap keeps
+// |k |v_rel| h| <= 1/8, so the denominator stays >= 7/8 (finite, bounded) even in Yoshida's negative kick.
+// Applied as v -= g v_rel with g = k|v_rel|h / (1 + k|v_rel|h): without drag g = 0 and v is unchanged
+// bit for bit.
+[[gnu::always_inline]] inline void drag_flow(double rho_kg_m3, double drag_area_to_mass_m2_kg,
+                                             double rate_limit_per_s, double x, double y, double h_s,
+                                             double& vx, double& vy, double& vz) {
+  constexpr double w = constants::kEarthRotationRate_rad_s;
+  const double vrx = vx + w * y;
+  const double vry = vy - w * x;
+  const double vrz = vz;
+  const double speed = std::sqrt(vrx * vrx + vry * vry + vrz * vrz);
+  double rate = 0.5 * rho_kg_m3 * drag_area_to_mass_m2_kg * speed;
+  rate = rate < rate_limit_per_s ? rate : rate_limit_per_s;
+  const double rate_h = rate * h_s;
+  const double g = rate_h / (1.0 + rate_h);
+  vx -= g * vrx;
+  vy -= g * vry;
+  vz -= g * vrz;
 }
 
 }  // namespace kessler

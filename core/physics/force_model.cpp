@@ -63,4 +63,23 @@ Eigen::Vector3d ForceModel::acceleration(const ForceInstant& f, const Eigen::Vec
   return a;
 }
 
+Eigen::Vector3d ForceModel::kick(const ForceInstant& f, const Eigen::Vector3d& r, const Eigen::Vector3d& v,
+                                 double h_s, const ObjectForceProperties& object) const {
+  Eigen::Vector3d out = v;
+  if (settings_.atmosphere == AtmosphereModel::kDensityTable)
+    kessler::kick<AtmosphereModel::kDensityTable>(f, h_s, r.x(), r.y(), r.z(), out.x(), out.y(), out.z(),
+                                                  object.drag_area_to_mass_m2_kg,
+                                                  object.srp_area_to_mass_m2_kg);
+  else
+    kessler::kick<AtmosphereModel::kExponentialFit>(f, h_s, r.x(), r.y(), r.z(), out.x(), out.y(), out.z(),
+                                                    object.drag_area_to_mass_m2_kg,
+                                                    object.srp_area_to_mass_m2_kg);
+  return out;
+}
+
+Eigen::Vector3d ForceModel::kick(const Eigen::Vector3d& r, const Eigen::Vector3d& v, double t_s, double h_s,
+                                 const ObjectForceProperties& object) const {
+  return kick(instant(t_s), r, v, h_s, object);
+}
+
 }  // namespace kessler

@@ -4,6 +4,9 @@
 //  - ForceModel::instant(t) + accelerate<Model>(instant, ...): the scalars of one instant (Earth angle,
 //    Sun position, switched coefficients) computed once, then a per-object inline kernel of + - * / sqrt
 //    and deterministic_exp only, which the propagator's loop vectorises. Both give the same bits.
+//  - ForceModel::kick / kick<Model>: the propagator's velocity update over h seconds at a fixed position:
+//    half of the drag as its exact flow, the velocity-independent terms as a plain kick, the other half
+//    of the drag (Strang splitting: the kick is time-symmetric with drag; drag.hpp, drag_flow).
 // A switched-off term has a zero coefficient, so it adds exactly zero.
 #pragma once
 
@@ -78,6 +81,34 @@ template <AtmosphereModel kAtmosphere>
   az = kz + (jz + cz + dz + sz);
 }
 
+// The propagator's kick: the velocity after h_s seconds at the fixed position (x, y, z) and instant f
+// (h_s may be negative). drag_flow(h/2), then v += h (Kepler + J2 + C22/S22 + SRP), then drag_flow(h/2):
+// a symmetric composition of exact sub-flows, so kick(-h) undoes kick(h) (up to rounding and the drag
+// cap), which keeps the Yoshida step 4th order with drag. Same terms and density as accelerate().
+template <AtmosphereModel kAtmosphere>
+[[gnu::always_inline]] inline void kick(const ForceInstant& f, double h_s, double x, double y, double z,
+                                        double& vx, double& vy, double& vz, double drag_area_to_mass,
+                                        double srp_area_to_mass) {
+  const double r2 = x * x + y * y + z * z;
+  const double r = std::sqrt(r2);
+  const double inv_r = 1.0 / r;
+  double kx, ky, kz, jx, jy, jz, cx, cy, cz, sx, sy, sz;
+  gravity::kepler_acceleration(f.mu_m3_s2, x, y, z, inv_r, kx, ky, kz);
+  gravity::j2_acceleration(f.j2_mu_r2, x, y, z, inv_r, jx, jy, jz);
+  gravity::c22_s22_acceleration(f.c22_mu_r2, f.s22_mu_r2, f.cos_theta, f.sin_theta, x, y, z, inv_r, cx, cy,
+                                cz);
+  srp_acceleration(f.srp_p_au2, f.sun, srp_area_to_mass, x, y, z, sx, sy, sz);
+  const double rho = atmosphere_density<kAtmosphere>(f, r - constants::kEarthEquatorialRadius_m);
+  const double cda = f.drag_scale * drag_area_to_mass;
+  const double half_h = 0.5 * h_s;
+  drag_flow(rho, cda, f.drag_rate_limit_per_s, x, y, half_h, vx, vy, vz);
+  // Same order as accelerate() without its drag term.
+  vx += h_s * (kx + (jx + cx + sx));
+  vy += h_s * (ky + (jy + cy + sy));
+  vz += h_s * (kz + (jz + cz + sz));
+  drag_flow(rho, cda, f.drag_rate_limit_per_s, x, y, half_h, vx, vy, vz);
+}
+
 class ForceModel {
  public:
   ForceModel(const ForceModelSettings& settings, const UtcEpoch& epoch);
@@ -94,6 +125,13 @@ class ForceModel {
   // Same, with a precomputed instant.
   Eigen::Vector3d acceleration(const ForceInstant& instant, const Eigen::Vector3d& r_m,
                                const Eigen::Vector3d& v_m_s, const ObjectForceProperties& object) const;
+
+  // The propagator's kick (kick<Model> above): velocity [m/s] after h_s seconds at the fixed position r_m,
+  // the forces taken at the instant (t_s seconds since the epoch). The same bits as the propagator's.
+  Eigen::Vector3d kick(const ForceInstant& instant, const Eigen::Vector3d& r_m, const Eigen::Vector3d& v_m_s,
+                       double h_s, const ObjectForceProperties& object) const;
+  Eigen::Vector3d kick(const Eigen::Vector3d& r_m, const Eigen::Vector3d& v_m_s, double t_s, double h_s,
+                       const ObjectForceProperties& object) const;
 
  private:
   ForceModelSettings settings_;
