@@ -4,7 +4,7 @@
 namespace kessler {
 
 enum class AtmosphereModel {
-  kDensityTable,    // NRLMSISE-00-based table, 150..2000+ km, exponential interpolation (default)
+  kDensityTable,    // Vallado's exponential atmosphere (Table 8-4), exponential interpolation (default)
   kExponentialFit,  // the 4-term exponential fit shipped with the leo-19647 dataset
 };
 
