@@ -65,7 +65,7 @@ class BroadPhaseGrid {
 
   // Number of slots (objects in bucket order); pairs are enumerated per slot range so threads can split
   // the work. Appends each candidate pair (boxes overlap) whose first member is in [slot_begin, slot_end).
-  std::size_t slot_count() const { return order_.size(); }
+  std::size_t slot_count() const { return slots_in_grid_; }
   void collect_pairs(std::size_t slot_begin, std::size_t slot_end, std::vector<CandidatePair>& out) const;
 
   // The oversized objects: pairs of oversized object number [begin, end) with every other object
@@ -91,19 +91,25 @@ class BroadPhaseGrid {
 
   static constexpr int kRowShift = 21;
   static constexpr std::uint64_t kZMask = (std::uint64_t{1} << kRowShift) - 1;
+
+  // One object's grown box, cell key and population index in one cache line: the pair walk reads one
+  // line per visited slot instead of a key array plus a box array, and the sort moves whole records.
+  struct alignas(64) SlotBox {
+    double lo[3], hi[3];
+    std::uint64_t key;
+    std::uint32_t index;
+  };
+
   double cell_size_m_ = 0.0;
   std::size_t bucket_mask_ = 0;
-  // Per object (population index): grown box and cell key, then per slot (bucket order) copies.
-  std::vector<double> lo_x_, lo_y_, lo_z_, hi_x_, hi_y_, hi_z_;
-  std::vector<std::uint64_t> key_;
+  std::size_t slots_in_grid_ = 0;
+  std::vector<SlotBox> box_;   // per object (population index)
+  std::vector<SlotBox> slot_;  // per slot (bucket order)
   std::vector<std::uint32_t> bucket_;
   std::vector<char> oversized_flag_;
   std::vector<std::uint32_t> oversized_;     // population indices, ascending
   std::vector<std::uint32_t> bucket_start_;  // size buckets + 1
   std::vector<std::uint64_t> occupied_;      // one bit per bucket
-  std::vector<std::uint32_t> order_;         // slot -> population index
-  std::vector<double> slot_box_;             // 6 per slot: lo x, y, z, hi x, y, z
-  std::vector<std::uint64_t> slot_key_;
   // Counting-sort scratch.
   std::vector<std::uint32_t> scratch_, coarse_count_, partition_start_;
   std::vector<std::vector<std::uint32_t>> thread_oversized_;
