@@ -12,6 +12,8 @@ constexpr int kAxisBits = 21;
 constexpr std::int64_t kAxisOffset = std::int64_t{1} << (kAxisBits - 1);
 constexpr double kAxisLimit = static_cast<double>(kAxisOffset - 2);  // keeps neighbours in range
 constexpr double kRoundingMargin_m = 1e-3;
+// The paper's simulation domain (cube edge); objects beyond it only share buckets more often.
+constexpr double kDomainEdge_m = 20.0e6;
 // The counting sort's coarse partitions (top bits of the bucket): at most 2^8.
 constexpr int kMaxCoarseBits = 8;
 
@@ -33,6 +35,9 @@ constexpr std::uint64_t row_offset(int dx, int dy) {
 // cells is visited once.
 constexpr std::uint64_t kForwardRows[4] = {row_offset(0, 1), row_offset(1, -1), row_offset(1, 0),
                                            row_offset(1, 1)};
+// The axes a box must cross into the next cell on for each forward row to hold an overlapping box
+// (bit 0: x, bit 1: y).
+constexpr std::uint32_t kForwardRowNeeds[4] = {2u, 1u, 1u, 3u};
 
 inline void min_max4(double a, double b, double c, double d, double& lo, double& hi) {
   lo = std::min(std::min(a, b), std::min(c, d));
@@ -115,6 +120,10 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
     }
     const double cell = std::max(largest_edge, 1.0) * (1.0 + 1e-9);
     const double inverse_cell = 1.0 / cell;
+    // Strides: a row along z holds the cells of the simulation domain (20,000 km) plus margin, so the
+    // rows of a plane do not overlap inside it; odd, so that wrapping the table spreads the planes.
+    const std::uint64_t cy = static_cast<std::uint64_t>(std::ceil(kDomainEdge_m * inverse_cell)) | 3u;
+    const std::uint64_t cx = cy * cy;
 
     // Counting sort by bucket, stable (population order inside a bucket, whatever the thread count),
     // oversized objects left out: each thread counts its contiguous chunk of objects per coarse
@@ -133,7 +142,12 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
                                 (axis_cell(box.lo[1], inverse_cell) << kAxisBits) |
                                 axis_cell(box.lo[2], inverse_cell);
       box.key = key;
-      const std::uint32_t b = static_cast<std::uint32_t>(bucket_of(key));
+      // Monotone cells: a box whose upper corner is in its lower corner's cell along an axis lies below
+      // every lower corner of a later cell on that axis.
+      box.crosses = (axis_cell(box.hi[0], inverse_cell) != axis_cell(box.lo[0], inverse_cell) ? 1u : 0u) |
+                    (axis_cell(box.hi[1], inverse_cell) != axis_cell(box.lo[1], inverse_cell) ? 2u : 0u) |
+                    (axis_cell(box.hi[2], inverse_cell) != axis_cell(box.lo[2], inverse_cell) ? 4u : 0u);
+      const std::uint32_t b = static_cast<std::uint32_t>(linear_bucket(key, cy, cx, bucket_mask_));
       bucket_[i] = b;
       if (oversized_flag_[i])
         my_oversized.push_back(static_cast<std::uint32_t>(i));
@@ -144,6 +158,8 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
 #pragma omp single
     {
       cell_size_m_ = cell;
+      cy_ = cy;
+      cx_ = cx;
       oversized_.clear();
       for (std::size_t u = 0; u < threads; ++u)
         oversized_.insert(oversized_.end(), thread_oversized_[u].begin(), thread_oversized_[u].end());
@@ -239,19 +255,21 @@ void BroadPhaseGrid::collect_pairs(std::size_t slot_begin, std::size_t slot_end,
                                    std::vector<CandidatePair>& out) const {
   for (std::size_t k = slot_begin; k < slot_end; ++k) {
     const std::uint64_t key = slot_[k].key;
+    const std::uint32_t crosses = slot_[k].crosses;
+    // z cells of a neighbour row: z - 1 and z, and z + 1 only if the box reaches into the next z cell.
+    const std::size_t z_cells = (crosses & 4u) ? 3 : 2;
     // Own row: the same cell (slots after k) and the next z cell, in buckets b and b + 1.
-    pair_with_buckets(k, bucket_of(key), 2, k + 1, key, 1, out);
-    // The forward rows, z cells -1..+1: buckets b' - 1 .. b' + 1.
-    for (std::uint64_t offset : kForwardRows) {
-      const std::uint64_t centre = key + offset;
+    pair_with_buckets(k, bucket_of(key), z_cells - 1, k + 1, key, 1, out);
+    // The forward rows, z cells -1..+1: buckets b' - 1 .. b' + 1. Rows at y + 1 only if the box
+    // reaches into the next y cell, rows at x + 1 only if it reaches into the next x cell.
+    for (int r = 0; r < 4; ++r) {
+      const std::uint32_t needs = kForwardRowNeeds[r];
+      if ((crosses & needs) != needs) continue;
+      const std::uint64_t centre = key + kForwardRows[r];
       const std::size_t b = (bucket_of(centre) - 1) & bucket_mask_;
-      // Most neighbour rows are empty: the occupancy bitmap (a few kB, in L1) answers.
-      const std::size_t b1 = (b + 1) & bucket_mask_, b2 = (b + 2) & bucket_mask_;
-      if (!(((occupied_[b >> 6] >> (b & 63)) | (occupied_[b1 >> 6] >> (b1 & 63)) |
-             (occupied_[b2 >> 6] >> (b2 & 63))) &
-            1u))
-        continue;
-      pair_with_buckets(k, b, 3, 0, centre - 1, 2, out);
+      // Many neighbour rows are empty: the occupancy bitmap answers.
+      if (!any_occupied(b, z_cells)) continue;
+      pair_with_buckets(k, b, z_cells, 0, centre - 1, z_cells - 1, out);
     }
   }
 }
