@@ -1,4 +1,4 @@
-// Broad phase: a hashed grid of swept boxes, rebuilt every step in O(N), that yields every pair of
+// Broad phase: a grid of swept boxes in a bucket table, rebuilt every step in O(N), that yields every pair of
 // objects which can come within its threshold at any moment of the step, and few others.
 //
 // Cutoff derivation. Over a step each object stays inside a box known from its end states alone:
@@ -24,11 +24,19 @@
 // make every pair a neighbour. They are kept out of the grid and tested against every object instead
 // (O(N) each), so one bad object costs O(N), not O(N^2).
 //
-// Cells are hashed into a table of a power of two >= 4 N buckets: a hash of the cell's (x, y) row plus
-// its z index, so the cells along z are consecutive buckets and the 13 forward neighbours are 5 bucket
-// ranges (own cell and z + 1; z - 1..z + 1 of four neighbouring rows); an occupancy bitmap (1 bit per
-// bucket, in L1) skips empty ones. Objects are ordered by bucket with a parallel, stable counting sort,
-// so memory and time stay O(N) whatever the domain's size and the result never depends on threads.
+// Cells go into a table of a power of two >= 4 N buckets by a linear function of their axis cells,
+// x cx + y cy + z (mod the table): the cells along z are consecutive buckets, so the 13 forward
+// neighbours are 5 bucket ranges (own cell and z + 1; z - 1..z + 1 of four neighbouring rows), and each
+// neighbour row lies at a fixed bucket offset from its cell, so the walk in bucket order reads it as a
+// forward stream; an occupancy bitmap (1 bit per bucket) skips empty ones. Objects are ordered by
+// bucket with a parallel, stable counting sort, so memory and time stay O(N) whatever the domain's
+// size and the result never depends on threads. Each slot is one 64-byte record (box, key, index).
+//
+// Exact pruning of the walk: cells along an axis are monotone in the coordinate, so a box whose upper
+// corner lies in its lower corner's cell on an axis is below every lower corner of the next cell on
+// that axis and cannot overlap a box of that cell. The walk visits the x + 1 rows only for boxes that
+// cross into the next x cell, the y + 1 rows only for those crossing in y, and the z + 1 cells only for
+// those crossing in z: the same candidate pairs, about half the cells visited.
 #pragma once
 
 #include <cstddef>
