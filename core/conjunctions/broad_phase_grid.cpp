@@ -12,8 +12,6 @@ constexpr int kAxisBits = 21;
 constexpr std::int64_t kAxisOffset = std::int64_t{1} << (kAxisBits - 1);
 constexpr double kAxisLimit = static_cast<double>(kAxisOffset - 2);  // keeps neighbours in range
 constexpr double kRoundingMargin_m = 1e-3;
-// The paper's simulation domain (cube edge); objects beyond it only share buckets more often.
-constexpr double kDomainEdge_m = 20.0e6;
 // The counting sort's coarse partitions (top bits of the bucket): at most 2^8.
 constexpr int kMaxCoarseBits = 8;
 
@@ -120,10 +118,6 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
     }
     const double cell = std::max(largest_edge, 1.0) * (1.0 + 1e-9);
     const double inverse_cell = 1.0 / cell;
-    // Strides: a row along z holds the cells of the simulation domain (20,000 km) plus margin, so the
-    // rows of a plane do not overlap inside it; odd, so that wrapping the table spreads the planes.
-    const std::uint64_t cy = static_cast<std::uint64_t>(std::ceil(kDomainEdge_m * inverse_cell)) | 3u;
-    const std::uint64_t cx = cy * cy;
 
     // Counting sort by bucket, stable (population order inside a bucket, whatever the thread count),
     // oversized objects left out: each thread counts its contiguous chunk of objects per coarse
@@ -147,7 +141,7 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
       box.crosses = (axis_cell(box.hi[0], inverse_cell) != axis_cell(box.lo[0], inverse_cell) ? 1u : 0u) |
                     (axis_cell(box.hi[1], inverse_cell) != axis_cell(box.lo[1], inverse_cell) ? 2u : 0u) |
                     (axis_cell(box.hi[2], inverse_cell) != axis_cell(box.lo[2], inverse_cell) ? 4u : 0u);
-      const std::uint32_t b = static_cast<std::uint32_t>(linear_bucket(key, cy, cx, bucket_mask_));
+      const std::uint32_t b = static_cast<std::uint32_t>(bucket_of(key));
       bucket_[i] = b;
       if (oversized_flag_[i])
         my_oversized.push_back(static_cast<std::uint32_t>(i));
@@ -158,8 +152,6 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
 #pragma omp single
     {
       cell_size_m_ = cell;
-      cy_ = cy;
-      cx_ = cx;
       oversized_.clear();
       for (std::size_t u = 0; u < threads; ++u)
         oversized_.insert(oversized_.end(), thread_oversized_[u].begin(), thread_oversized_[u].end());

@@ -1,4 +1,4 @@
-// Broad phase: a grid of swept boxes in a bucket table, rebuilt every step in O(N), that yields every pair of
+// Broad phase: a hashed grid of swept boxes, rebuilt every step in O(N), that yields every pair of
 // objects which can come within its threshold at any moment of the step, and few others.
 //
 // Cutoff derivation. Over a step each object stays inside a box known from its end states alone:
@@ -24,13 +24,14 @@
 // make every pair a neighbour. They are kept out of the grid and tested against every object instead
 // (O(N) each), so one bad object costs O(N), not O(N^2).
 //
-// Cells go into a table of a power of two >= 4 N buckets by a linear function of their axis cells,
-// x cx + y cy + z (mod the table): the cells along z are consecutive buckets, so the 13 forward
-// neighbours are 5 bucket ranges (own cell and z + 1; z - 1..z + 1 of four neighbouring rows), and each
-// neighbour row lies at a fixed bucket offset from its cell, so the walk in bucket order reads it as a
-// forward stream; an occupancy bitmap (1 bit per bucket) skips empty ones. Objects are ordered by
-// bucket with a parallel, stable counting sort, so memory and time stay O(N) whatever the domain's
-// size and the result never depends on threads. Each slot is one 64-byte record (box, key, index).
+// Cells are hashed into a table of a power of two >= 4 N buckets: a hash of the cell's (x, y) row plus
+// its z index, so the cells along z are consecutive buckets and the 13 forward neighbours are 5 bucket
+// ranges (own cell and z + 1; z - 1..z + 1 of four neighbouring rows); an occupancy bitmap (1 bit per
+// bucket, in L1) skips empty ones. Objects are ordered by bucket with a parallel, stable counting sort,
+// so memory and time stay O(N) whatever the domain's size and the result never depends on threads.
+// Each slot is one 64-byte record (box, cell key, index): one cache line per visited slot.
+// (A linear bucket function, x cx + y cy + z, which puts neighbour rows at fixed offsets, was measured
+// and did not pay: 149.7 vs 145.5 ns per object-step at 320k, equal at 19,647.)
 //
 // Exact pruning of the walk: cells along an axis are monotone in the coordinate, so a box whose upper
 // corner lies in its lower corner's cell on an axis is below every lower corner of the next cell on
@@ -84,19 +85,13 @@ class BroadPhaseGrid {
   double cell_size_m() const { return cell_size_m_; }
 
  private:
-  // Bucket of a cell: a linear function of its axis cells, x cx + y cy + z (mod the table), so the
-  // cells of a row along z fall in consecutive buckets (the three z neighbours of a cell are one
-  // contiguous range) and every neighbour row lies at a fixed bucket offset from its cell: as the walk
-  // runs through the slots in bucket order, each of the forward rows is read as a forward stream of
-  // memory instead of at a random place of the table and the slot array.
-  static std::size_t linear_bucket(std::uint64_t cell_key, std::uint64_t cy, std::uint64_t cx,
-                                   std::size_t mask) {
-    return static_cast<std::size_t>((cell_key >> (2 * kRowShift)) * cx +
-                                    ((cell_key >> kRowShift) & kZMask) * cy + (cell_key & kZMask)) &
-           mask;
-  }
+  // Bucket of a cell: a hash of its row (x, y) plus its z cell, so the cells of a row along z fall in
+  // consecutive buckets (and, sorted by bucket, in consecutive slots): the three z neighbours of a
+  // cell are one contiguous range, usually on one cache line of the bucket table.
   std::size_t bucket_of(std::uint64_t cell_key) const {
-    return linear_bucket(cell_key, cy_, cx_, bucket_mask_);
+    const std::uint64_t row = cell_key >> kRowShift;
+    return static_cast<std::size_t>(((row * 0x9E3779B97F4A7C15ull) >> 20) + (cell_key & kZMask)) &
+           bucket_mask_;
   }
   // Pairs of slot k with the slots of buckets [first_bucket, first_bucket + count) (mod the table;
   // in the first bucket only from slot `from` on), whose cell keys are in [key_lo, key_lo + span].
@@ -128,7 +123,6 @@ class BroadPhaseGrid {
 
   double cell_size_m_ = 0.0;
   std::size_t bucket_mask_ = 0;
-  std::uint64_t cy_ = 0, cx_ = 0;  // bucket strides of the y and x axes
   std::size_t slots_in_grid_ = 0;
   std::vector<SlotBox> box_;   // per object (population index)
   std::vector<SlotBox> slot_;  // per slot (bucket order)
