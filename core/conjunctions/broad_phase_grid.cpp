@@ -33,6 +33,9 @@ constexpr std::uint64_t row_offset(int dx, int dy) {
 // cells is visited once.
 constexpr std::uint64_t kForwardRows[4] = {row_offset(0, 1), row_offset(1, -1), row_offset(1, 0),
                                            row_offset(1, 1)};
+// The axes a box must cross into the next cell on for each forward row to hold an overlapping box
+// (bit 0: x, bit 1: y).
+constexpr std::uint32_t kForwardRowNeeds[4] = {2u, 1u, 1u, 3u};
 
 inline void min_max4(double a, double b, double c, double d, double& lo, double& hi) {
   lo = std::min(std::min(a, b), std::min(c, d));
@@ -47,14 +50,11 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
   const StateArrays& s1 = *step.end;
   const std::size_t n = s0.size();
   const double dt = step.dt_s;
-  for (auto* v : {&lo_x_, &lo_y_, &lo_z_, &hi_x_, &hi_y_, &hi_z_}) v->resize(n);
-  key_.resize(n);
+  box_.resize(n);
+  slot_.resize(n);
   bucket_.resize(n);
   oversized_flag_.resize(n);
-  order_.resize(n);
   scratch_.resize(n);
-  slot_box_.resize(6 * n);
-  slot_key_.resize(n);
 
   // At least 4 buckets per object (load <= 1/4: few hash collisions; the occupancy bitmap makes empty
   // buckets cheap); up to 256 coarse partitions for the sort, each of at least 64 buckets.
@@ -109,12 +109,12 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
           !(edge <= oversize_m) || !std::isfinite(lo[0] + lo[1] + lo[2] + hi[0] + hi[1] + hi[2]);
       oversized_flag_[i] = oversized;
       if (!oversized) largest_edge = std::max(largest_edge, edge);
-      lo_x_[i] = lo[0];
-      lo_y_[i] = lo[1];
-      lo_z_[i] = lo[2];
-      hi_x_[i] = hi[0];
-      hi_y_[i] = hi[1];
-      hi_z_[i] = hi[2];
+      SlotBox& box = box_[i];
+      for (int k = 0; k < 3; ++k) {
+        box.lo[k] = lo[k];
+        box.hi[k] = hi[k];
+      }
+      box.index = static_cast<std::uint32_t>(i);
     }
     const double cell = std::max(largest_edge, 1.0) * (1.0 + 1e-9);
     const double inverse_cell = 1.0 / cell;
@@ -131,10 +131,16 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
     std::vector<std::uint32_t>& my_oversized = thread_oversized_[t];
     my_oversized.clear();
     for (std::size_t i = begin; i < end; ++i) {
-      const std::uint64_t key = (axis_cell(lo_x_[i], inverse_cell) << (2 * kAxisBits)) |
-                                (axis_cell(lo_y_[i], inverse_cell) << kAxisBits) |
-                                axis_cell(lo_z_[i], inverse_cell);
-      key_[i] = key;
+      SlotBox& box = box_[i];
+      const std::uint64_t key = (axis_cell(box.lo[0], inverse_cell) << (2 * kAxisBits)) |
+                                (axis_cell(box.lo[1], inverse_cell) << kAxisBits) |
+                                axis_cell(box.lo[2], inverse_cell);
+      box.key = key;
+      // Monotone cells: a box whose upper corner is in its lower corner's cell along an axis lies below
+      // every lower corner of a later cell on that axis.
+      box.crosses = (axis_cell(box.hi[0], inverse_cell) != axis_cell(box.lo[0], inverse_cell) ? 1u : 0u) |
+                    (axis_cell(box.hi[1], inverse_cell) != axis_cell(box.lo[1], inverse_cell) ? 2u : 0u) |
+                    (axis_cell(box.hi[2], inverse_cell) != axis_cell(box.lo[2], inverse_cell) ? 4u : 0u);
       const std::uint32_t b = static_cast<std::uint32_t>(bucket_of(key));
       bucket_[i] = b;
       if (oversized_flag_[i])
@@ -183,41 +189,31 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
         starts[f] = running;
         running += c;
       }
-      // Scatter with the starts as cursors, then shift them back.
+      // Scatter whole records with the starts as cursors (stable: population order inside a bucket),
+      // then shift the starts back.
       for (std::uint32_t m = lo; m < hi; ++m) {
         const std::uint32_t i = scratch_[m];
-        order_[starts[bucket_[i] - first_bucket]++] = i;
+        slot_[starts[bucket_[i] - first_bucket]++] = box_[i];
       }
       for (std::size_t f = fine_buckets; f-- > 1;) starts[f] = starts[f - 1];
       starts[0] = lo;
-      // The partition's slots: boxes and keys in slot order for the pair search.
-      for (std::uint32_t k = lo; k < hi; ++k) {
-        const std::uint32_t i = order_[k];
-        double* box = &slot_box_[6 * std::size_t{k}];
-        box[0] = lo_x_[i];
-        box[1] = lo_y_[i];
-        box[2] = lo_z_[i];
-        box[3] = hi_x_[i];
-        box[4] = hi_y_[i];
-        box[5] = hi_z_[i];
-        slot_key_[k] = key_[i];
-      }
     }
   }
-  const std::size_t slots = n - oversized_.size();
-  order_.resize(slots);
+  slots_in_grid_ = n - oversized_.size();
 }
 
 void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
                                              std::vector<CandidatePair>& out) const {
-  const std::size_t n = lo_x_.size();
+  const std::size_t n = box_.size();
   for (std::size_t o = begin; o < end; ++o) {
     const std::size_t i = oversized_[o];
+    const SlotBox& a = box_[i];
     for (std::size_t j = 0; j < n; ++j) {
       // Oversized with oversized: once, from the lower index.
       if (j == i || (oversized_flag_[j] && j < i)) continue;
-      if (lo_x_[i] <= hi_x_[j] && lo_x_[j] <= hi_x_[i] && lo_y_[i] <= hi_y_[j] && lo_y_[j] <= hi_y_[i] &&
-          lo_z_[i] <= hi_z_[j] && lo_z_[j] <= hi_z_[i])
+      const SlotBox& c = box_[j];
+      if (a.lo[0] <= c.hi[0] && c.lo[0] <= a.hi[0] && a.lo[1] <= c.hi[1] && c.lo[1] <= a.hi[1] &&
+          a.lo[2] <= c.hi[2] && c.lo[2] <= a.hi[2])
         out.push_back(CandidatePair{static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)});
     }
   }
@@ -226,13 +222,14 @@ void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
 void BroadPhaseGrid::pair_with_buckets(std::size_t k, std::size_t first_bucket, std::size_t count,
                                        std::size_t from, std::uint64_t key_lo, std::uint64_t span,
                                        std::vector<CandidatePair>& out) const {
-  const double* a = &slot_box_[6 * k];
+  const SlotBox& a = slot_[k];
   auto scan = [&](std::size_t first, std::size_t last) {
     for (std::size_t m = first; m < last; ++m) {
-      if (slot_key_[m] - key_lo > span) continue;  // another cell (unsigned: below key_lo wraps high)
-      const double* c = &slot_box_[6 * m];
-      if (a[0] <= c[3] && c[0] <= a[3] && a[1] <= c[4] && c[1] <= a[4] && a[2] <= c[5] && c[2] <= a[5])
-        out.push_back(CandidatePair{order_[k], order_[m]});
+      const SlotBox& c = slot_[m];
+      if (c.key - key_lo > span) continue;  // another cell (unsigned: below key_lo wraps high)
+      if (a.lo[0] <= c.hi[0] && c.lo[0] <= a.hi[0] && a.lo[1] <= c.hi[1] && c.lo[1] <= a.hi[1] &&
+          a.lo[2] <= c.hi[2] && c.lo[2] <= a.hi[2])
+        out.push_back(CandidatePair{a.index, c.index});
     }
   };
   if (first_bucket + count <= bucket_mask_ + 1) {
@@ -249,20 +246,22 @@ void BroadPhaseGrid::pair_with_buckets(std::size_t k, std::size_t first_bucket, 
 void BroadPhaseGrid::collect_pairs(std::size_t slot_begin, std::size_t slot_end,
                                    std::vector<CandidatePair>& out) const {
   for (std::size_t k = slot_begin; k < slot_end; ++k) {
-    const std::uint64_t key = slot_key_[k];
+    const std::uint64_t key = slot_[k].key;
+    const std::uint32_t crosses = slot_[k].crosses;
+    // z cells of a neighbour row: z - 1 and z, and z + 1 only if the box reaches into the next z cell.
+    const std::size_t z_cells = (crosses & 4u) ? 3 : 2;
     // Own row: the same cell (slots after k) and the next z cell, in buckets b and b + 1.
-    pair_with_buckets(k, bucket_of(key), 2, k + 1, key, 1, out);
-    // The forward rows, z cells -1..+1: buckets b' - 1 .. b' + 1.
-    for (std::uint64_t offset : kForwardRows) {
-      const std::uint64_t centre = key + offset;
+    pair_with_buckets(k, bucket_of(key), z_cells - 1, k + 1, key, 1, out);
+    // The forward rows, z cells -1..+1: buckets b' - 1 .. b' + 1. Rows at y + 1 only if the box
+    // reaches into the next y cell, rows at x + 1 only if it reaches into the next x cell.
+    for (int r = 0; r < 4; ++r) {
+      const std::uint32_t needs = kForwardRowNeeds[r];
+      if ((crosses & needs) != needs) continue;
+      const std::uint64_t centre = key + kForwardRows[r];
       const std::size_t b = (bucket_of(centre) - 1) & bucket_mask_;
-      // Most neighbour rows are empty: the occupancy bitmap (a few kB, in L1) answers.
-      const std::size_t b1 = (b + 1) & bucket_mask_, b2 = (b + 2) & bucket_mask_;
-      if (!(((occupied_[b >> 6] >> (b & 63)) | (occupied_[b1 >> 6] >> (b1 & 63)) |
-             (occupied_[b2 >> 6] >> (b2 & 63))) &
-            1u))
-        continue;
-      pair_with_buckets(k, b, 3, 0, centre - 1, 2, out);
+      // Many neighbour rows are empty: the occupancy bitmap answers.
+      if (!any_occupied(b, z_cells)) continue;
+      pair_with_buckets(k, b, z_cells, 0, centre - 1, z_cells - 1, out);
     }
   }
 }

@@ -29,6 +29,15 @@
 // ranges (own cell and z + 1; z - 1..z + 1 of four neighbouring rows); an occupancy bitmap (1 bit per
 // bucket, in L1) skips empty ones. Objects are ordered by bucket with a parallel, stable counting sort,
 // so memory and time stay O(N) whatever the domain's size and the result never depends on threads.
+// Each slot is one 64-byte record (box, cell key, index): one cache line per visited slot.
+// (A linear bucket function, x cx + y cy + z, which puts neighbour rows at fixed offsets, was measured
+// and did not pay: 149.7 vs 145.5 ns per object-step at 320k, equal at 19,647.)
+//
+// Exact pruning of the walk: cells along an axis are monotone in the coordinate, so a box whose upper
+// corner lies in its lower corner's cell on an axis is below every lower corner of the next cell on
+// that axis and cannot overlap a box of that cell. The walk visits the x + 1 rows only for boxes that
+// cross into the next x cell, the y + 1 rows only for those crossing in y, and the z + 1 cells only for
+// those crossing in z: the same candidate pairs, about half the cells visited.
 #pragma once
 
 #include <cstddef>
@@ -65,7 +74,7 @@ class BroadPhaseGrid {
 
   // Number of slots (objects in bucket order); pairs are enumerated per slot range so threads can split
   // the work. Appends each candidate pair (boxes overlap) whose first member is in [slot_begin, slot_end).
-  std::size_t slot_count() const { return order_.size(); }
+  std::size_t slot_count() const { return slots_in_grid_; }
   void collect_pairs(std::size_t slot_begin, std::size_t slot_end, std::vector<CandidatePair>& out) const;
 
   // The oversized objects: pairs of oversized object number [begin, end) with every other object
@@ -88,22 +97,40 @@ class BroadPhaseGrid {
   // in the first bucket only from slot `from` on), whose cell keys are in [key_lo, key_lo + span].
   void pair_with_buckets(std::size_t k, std::size_t first_bucket, std::size_t count, std::size_t from,
                          std::uint64_t key_lo, std::uint64_t span, std::vector<CandidatePair>& out) const;
+  // Whether any of the buckets [first_bucket, first_bucket + count) (mod the table) holds a slot.
+  bool any_occupied(std::size_t first_bucket, std::size_t count) const {
+    for (std::size_t d = 0; d < count; ++d) {
+      const std::size_t b = (first_bucket + d) & bucket_mask_;
+      if ((occupied_[b >> 6] >> (b & 63)) & 1u) return true;
+    }
+    return false;
+  }
 
   static constexpr int kRowShift = 21;
   static constexpr std::uint64_t kZMask = (std::uint64_t{1} << kRowShift) - 1;
+
+  // One object's grown box, cell key and population index in one cache line: the pair walk reads one
+  // line per visited slot instead of a key array plus a box array, and the sort moves whole records.
+  struct alignas(64) SlotBox {
+    double lo[3], hi[3];
+    std::uint64_t key;
+    std::uint32_t index;
+    // Which axes the box crosses into the next cell on (bit 0: x, 1: y, 2: z). A box that stays in its
+    // cell along an axis cannot overlap a box whose lower corner lies in a later cell on that axis, so
+    // the walk skips those forward neighbours (exact: the same candidates, fewer cells visited).
+    std::uint32_t crosses;
+  };
+
   double cell_size_m_ = 0.0;
   std::size_t bucket_mask_ = 0;
-  // Per object (population index): grown box and cell key, then per slot (bucket order) copies.
-  std::vector<double> lo_x_, lo_y_, lo_z_, hi_x_, hi_y_, hi_z_;
-  std::vector<std::uint64_t> key_;
+  std::size_t slots_in_grid_ = 0;
+  std::vector<SlotBox> box_;   // per object (population index)
+  std::vector<SlotBox> slot_;  // per slot (bucket order)
   std::vector<std::uint32_t> bucket_;
   std::vector<char> oversized_flag_;
   std::vector<std::uint32_t> oversized_;     // population indices, ascending
   std::vector<std::uint32_t> bucket_start_;  // size buckets + 1
   std::vector<std::uint64_t> occupied_;      // one bit per bucket
-  std::vector<std::uint32_t> order_;         // slot -> population index
-  std::vector<double> slot_box_;             // 6 per slot: lo x, y, z, hi x, y, z
-  std::vector<std::uint64_t> slot_key_;
   // Counting-sort scratch.
   std::vector<std::uint32_t> scratch_, coarse_count_, partition_start_;
   std::vector<std::vector<std::uint32_t>> thread_oversized_;
