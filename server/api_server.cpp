@@ -68,6 +68,9 @@ class Service final : public v1::KesslerService::Service {
   grpc::Status WatchRun(grpc::ServerContext* c, const v1::WatchRunRequest* r,
                         grpc::ServerWriter<v1::RunEvent>* writer) override {
     return guarded(c, [&] {
+      // Headers first: a stream whose first message carries a buffer hint would hold them back with it,
+      // and the client would wait for both.
+      writer->SendInitialMetadata();
       m_.watch(
           *r,
           [&](const v1::RunEvent& e, bool more) {

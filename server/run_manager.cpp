@@ -380,6 +380,7 @@ void RunManager::watch(const v1::WatchRunRequest& request, const WriteEvent& wri
   constexpr int kGatherMs = 20;
 
   v1::RunState sent_state = v1::RUN_STATE_UNSPECIFIED;
+  // A terminal state is the stream's last message, after every event: the loop sends it when it ends.
   auto send_state = [&](const v1::StateChange& change) {
     if (change.state() == sent_state) return true;
     sent_state = change.state();
@@ -401,11 +402,11 @@ void RunManager::watch(const v1::WatchRunRequest& request, const WriteEvent& wri
     return static_cast<int>(events.size());
   };
 
-  if (auto h = hub(id)) {
-    if (!send_state(h->state())) return;
-  } else if (!send_state(state_of(run))) {
-    return;
-  }
+  const v1::StateChange opening = [&] {
+    if (auto h = hub(id)) return h->state();
+    return state_of(run);
+  }();
+  if (!is_terminal(opening.state()) && !send_state(opening)) return;
   // The daemon stopping ends the stream as UNAVAILABLE, so clients reconnect after the restart.
   auto check_stopping = [&] {
     if (stopping_)
@@ -431,6 +432,12 @@ void RunManager::watch(const v1::WatchRunRequest& request, const WriteEvent& wri
       continue;
     }
     std::uint64_t version = h->state_version();
+    // A terminal state must reach the client after every event, never before. So the looks go state,
+    // then closed, then events: a hub closes only after its last event, so an empty read after a closed
+    // look means nothing is left; and a state taken before an open look is not terminal. (In any other
+    // order the run could publish its last events and close between two looks.)
+    v1::StateChange state = h->state();
+    const bool closed = h->closed();
     auto read = h->read_after(cursor, kBatch);
     if (read.behind) {
       // Fell out of the window (or reconnected with an old number): catch up from the store, which
@@ -445,9 +452,8 @@ void RunManager::watch(const v1::WatchRunRequest& request, const WriteEvent& wri
         if (!send(*read.events[i], i + 1 < read.events.size())) return;
       continue;
     }
-    v1::StateChange state = h->state();
-    if (h->closed()) {
-      send_state(state);
+    if (closed) {
+      send_state(h->state());
       return;
     }
     if (!send_state(state)) return;

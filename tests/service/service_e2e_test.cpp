@@ -161,6 +161,8 @@ std::vector<v1::RunEvent> watch(v1::KesslerService::Stub& stub, std::int64_t id,
       saw_end = event.state().state() >= v1::RUN_STATE_SUCCEEDED;
       continue;
     }
+    // The stream ends with the final state, after every event: an event after a final state is a bug.
+    EXPECT_FALSE(saw_end) << "event " << event.seq() << " after the final state";
     events.push_back(event);
     if (max_events && events.size() >= max_events) {
       context.TryCancel();
