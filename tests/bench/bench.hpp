@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "core/population/population.hpp"
+
 namespace kessler::bench {
 
 using BenchMain = int (*)(int argc, char** argv);
@@ -49,6 +51,10 @@ double median(std::vector<double> values);
 // Seconds of a steady clock.
 double now_s();
 
+// The leo-19647 population repeated to `objects` objects: ids 1..objects, copy k of an object with its
+// position scaled by 1 + 1e-6 k, so that no two objects coincide. `dir` holds the dataset's files.
+Population leo19647_repeated(const std::string& dir, std::size_t objects);
+
 // CPU seconds of the whole process (all threads): unlike wall time, it does not count the time other
 // programs on a shared machine take the cores away.
 double process_cpu_s();
@@ -57,5 +63,6 @@ double process_cpu_s();
 
 #define KESSLER_BENCH_CONCAT_(a, b) a##b
 #define KESSLER_BENCH_CONCAT(a, b) KESSLER_BENCH_CONCAT_(a, b)
-#define KESSLER_BENCH(name, summary, main_fn) \
-  static ::kessler::bench::Registration KESSLER_BENCH_CONCAT(kessler_bench_reg_, __LINE__)(name, summary, main_fn)
+#define KESSLER_BENCH(name, summary, main_fn)                                                             \
+  static ::kessler::bench::Registration KESSLER_BENCH_CONCAT(kessler_bench_reg_, __LINE__)(name, summary, \
+                                                                                           main_fn)

@@ -20,19 +20,6 @@
 namespace kessler::bench {
 namespace {
 
-Population first_objects(const std::string& dir, std::size_t objects) {
-  const Population base = load_leo19647(dir);
-  Population p;
-  p.reserve(objects);
-  for (std::size_t i = 0; i < objects; ++i) {
-    ObjectRecord r = base.record(i % base.size());
-    r.id = i + 1;
-    r.position_m *= 1.0 + 1.0e-6 * static_cast<double>(i / base.size());
-    p.add(r);
-  }
-  return p;
-}
-
 int run(int argc, char** argv) {
   Args args(argc, argv);
   args.allow_only({"--objects", "--steps", "--threads", "--kappa", "--screen-km", "--dt", "--repeats",
@@ -65,7 +52,7 @@ int run(int argc, char** argv) {
     return 2;
   }
 
-  Population population = first_objects(dir, objects);
+  Population population = leo19647_repeated(dir, objects);
   // Every k-th object active (0: none), to exercise the status rules; the dataset has no status.
   const auto active_every = args.get_int("--active-every", 0);
   if (active_every > 0)

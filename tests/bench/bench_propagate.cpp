@@ -15,20 +15,6 @@
 namespace kessler::bench {
 namespace {
 
-Population make_population(const std::string& dir, std::size_t objects) {
-  const Population base = load_leo19647(dir);
-  Population p;
-  p.reserve(objects);
-  for (std::size_t i = 0; i < objects; ++i) {
-    ObjectRecord r = base.record(i % base.size());
-    const std::size_t copy = i / base.size();
-    r.id = i + 1;
-    r.position_m *= 1.0 + 1.0e-6 * static_cast<double>(copy);
-    p.add(r);
-  }
-  return p;
-}
-
 int run(int argc, char** argv) {
   Args args(argc, argv);
   args.allow_only(
@@ -48,7 +34,7 @@ int run(int argc, char** argv) {
     std::cerr << "kessler-bench propagate: --atmosphere is 'table' or 'fit'\n";
     return 2;
   }
-  const Population initial = make_population(dir, objects);
+  const Population initial = leo19647_repeated(dir, objects);
   ForceModelSettings forces;  // everything on unless --forces lists a subset
   const std::string force_list = args.get("--forces", "kepler,j2,c22,drag,srp");
   forces.kepler = force_list.find("kepler") != std::string::npos;

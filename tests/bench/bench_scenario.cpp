@@ -1,6 +1,6 @@
-// kessler-bench scenario: a scenario's main loop for --steps steps, the paper's runtime breakdown (integrator,
-// burn-up, grid, detection, output, checkpoint) as medians over --repeats; the population is built
-// (ingested) once per repeat, outside the timing. Checkpoints off unless --checkpoint-every N.
+// kessler-bench scenario: a scenario's main loop for --steps steps, the paper's runtime breakdown
+// (integrator, burn-up, grid, detection, output, checkpoint) as medians over --repeats; the population is
+// built (ingested) once per repeat, outside the timing. Checkpoints off unless --checkpoint-every N.
 #include <algorithm>
 #include <cstdio>
 #include <iostream>

@@ -1,12 +1,12 @@
 #include <time.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <sstream>
-#include <algorithm>
 
 #include "tests/bench/bench.hpp"
 
@@ -52,7 +52,9 @@ Args::Args(int argc, char** argv) {
   }
 }
 
-bool Args::has(const std::string& key) const { return values_.count(key) > 0; }
+bool Args::has(const std::string& key) const {
+  return values_.count(key) > 0;
+}
 
 std::string Args::get(const std::string& key, const std::string& fallback) const {
   auto it = values_.find(key);
@@ -119,7 +121,9 @@ std::string JsonLine::str() const {
   return out + "}";
 }
 
-void JsonLine::print() const { std::cout << str() << std::endl; }
+void JsonLine::print() const {
+  std::cout << str() << std::endl;
+}
 
 double median(std::vector<double> values) {
   if (values.empty()) return NAN;
@@ -144,7 +148,8 @@ int main(int argc, char** argv) {
   using kessler::bench::registry;
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
     std::cout << "usage: kessler-bench <benchmark> [--option value ...]\n\nbenchmarks:\n";
-    for (const auto& [name, entry] : registry()) std::cout << "  " << name << "\n      " << entry.summary << "\n";
+    for (const auto& [name, entry] : registry())
+      std::cout << "  " << name << "\n      " << entry.summary << "\n";
     return argc < 2 ? 2 : 0;
   }
   auto it = registry().find(argv[1]);
