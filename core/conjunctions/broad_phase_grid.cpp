@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include <omp.h>
 
@@ -14,6 +15,11 @@ constexpr double kAxisLimit = static_cast<double>(kAxisOffset - 2);  // keeps ne
 constexpr double kRoundingMargin_m = 1e-3;
 // The counting sort's coarse partitions (top bits of the bucket): at most 2^8.
 constexpr int kMaxCoarseBits = 8;
+// The cell edge over the largest box edge: room for the next step's boxes to grow a little, so the
+// guessed cell usually fits and the keys are computed once.
+constexpr double kCellMargin = 0.02;
+// A guessed cell more than this factor above what the step needs is shrunk.
+constexpr double kCellShrinkRatio = 1.05;
 
 // Cell index along one axis, clamped (clamping keeps neighbours neighbours; NaN goes to the edge).
 inline std::uint64_t axis_cell(double coordinate_m, double inverse_cell_m) {
@@ -44,18 +50,11 @@ inline void min_max4(double a, double b, double c, double d, double& lo, double&
 
 }  // namespace
 
-void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::vector<double>& share_m,
-                           double oversize_m) {
-  const StateArrays& s0 = *step.start;
-  const StateArrays& s1 = *step.end;
-  const std::size_t n = s0.size();
-  const double dt = step.dt_s;
+void BroadPhaseGrid::prepare(std::size_t n, int threads) {
   box_.resize(n);
   slot_.resize(n);
-  bucket_.resize(n);
   oversized_flag_.resize(n);
   scratch_.resize(n);
-
   // At least 4 buckets per object (load <= 1/4: few hash collisions; the occupancy bitmap makes empty
   // buckets cheap); up to 256 coarse partitions for the sort, each of at least 64 buckets.
   std::size_t buckets = 64;
@@ -65,141 +64,192 @@ void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const std::
     ++bits;
   }
   bucket_mask_ = buckets - 1;
-  const int coarse_bits = std::min(kMaxCoarseBits, bits - 6);
-  const std::size_t partitions = std::size_t{1} << coarse_bits;
-  const int fine_bits = bits - coarse_bits;
-  const std::size_t fine_buckets = std::size_t{1} << fine_bits;
+  const std::size_t team = static_cast<std::size_t>(std::max(threads, 1));
+  // Each thread scatters its chunk into every partition: with fewer than ~32 objects per thread and
+  // partition, threads would write the same cache lines (a 16-thread team on 20,000 objects and 256
+  // partitions measured no speed-up at all in the scatter). So partitions <= n / (32 threads).
+  int coarse_bits = 0;
+  while (coarse_bits < kMaxCoarseBits && coarse_bits < bits - 6 &&
+         (std::size_t{2} << coarse_bits) * 32 * team <= n)
+    ++coarse_bits;
+  coarse_bits_ = coarse_bits;
+  fine_bits_ = bits - coarse_bits_;
+  const std::size_t partitions = std::size_t{1} << coarse_bits_;
   bucket_start_.resize(buckets + 1);
   occupied_.resize(buckets / 64);
-  const std::size_t max_threads = static_cast<std::size_t>(omp_get_max_threads());
-  coarse_count_.resize(max_threads * partitions);
-  thread_oversized_.resize(max_threads);
+  coarse_count_.resize(team * partitions);
+  cursor_.resize(team * partitions);
+  thread_oversized_.resize(team);
+  thread_edge_.resize(team);
   partition_start_.resize(partitions + 1);
+  prepared_threads_ = team;
+}
 
+void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const ThresholdShare& share,
+                           double max_motion_m) {
+  const std::size_t n = step.start->size();
+  const int threads = n >= kParallelMinimumObjects ? omp_get_max_threads() : 1;
+  prepare(n, threads);
+#pragma omp parallel num_threads(threads)
+  build_in_team(step, motion, share, max_motion_m);
+}
+
+void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, const ThresholdShare& share,
+                                   double max_motion_m) {
+  const StateArrays& s0 = *step.start;
+  const StateArrays& s1 = *step.end;
+  const std::size_t n = s0.size();
+  const double dt = step.dt_s;
   const bool hermite = motion == NarrowPhase::kHermite;
-  const std::int64_t count = static_cast<std::int64_t>(n);
-  double largest_edge = 0.0;
-  // One parallel region, five barriers: boxes; cell keys and coarse counts; layout; scatter into
-  // coarse partitions; sort of each partition by fine bucket.
-#pragma omp parallel if (n >= kParallelMinimumObjects)
-  {
-    // Grown boxes and the largest edge (max is exact: the same for any thread count).
-#pragma omp for schedule(static) reduction(max : largest_edge)
-    for (std::int64_t ii = 0; ii < count; ++ii) {
-      const std::size_t i = static_cast<std::size_t>(ii);
-      const double grow = share_m[i] + kRoundingMargin_m;
-      const double p0[3] = {s0.x[i], s0.y[i], s0.z[i]};
-      const double v0[3] = {s0.vx[i], s0.vy[i], s0.vz[i]};
-      const double p1[3] = {s1.x[i], s1.y[i], s1.z[i]};
-      const double v1[3] = {s1.vx[i], s1.vy[i], s1.vz[i]};
-      double lo[3], hi[3], edge = 0.0;
-      for (int k = 0; k < 3; ++k) {
-        if (hermite) {
-          min_max4(p0[k], p0[k] + dt * v0[k] / 3.0, p1[k] - dt * v1[k] / 3.0, p1[k], lo[k], hi[k]);
-        } else {
-          const double e = p0[k] + dt * v0[k];
-          lo[k] = std::min(p0[k], e);
-          hi[k] = std::max(p0[k], e);
-        }
-        lo[k] -= grow;
-        hi[k] += grow;
-        edge = std::max(edge, hi[k] - lo[k]);
-      }
-      const bool oversized =
-          !(edge <= oversize_m) || !std::isfinite(lo[0] + lo[1] + lo[2] + hi[0] + hi[1] + hi[2]);
-      oversized_flag_[i] = oversized;
-      if (!oversized) largest_edge = std::max(largest_edge, edge);
-      SlotBox& box = box_[i];
-      for (int k = 0; k < 3; ++k) {
-        box.lo[k] = lo[k];
-        box.hi[k] = hi[k];
-      }
-      box.index = static_cast<std::uint32_t>(i);
-    }
-    const double cell = std::max(largest_edge, 1.0) * (1.0 + 1e-9);
-    const double inverse_cell = 1.0 / cell;
+  const std::size_t partitions = std::size_t{1} << coarse_bits_;
+  const std::size_t fine_buckets = std::size_t{1} << fine_bits_;
+  const std::size_t buckets = bucket_mask_ + 1;
+  const std::size_t threads = static_cast<std::size_t>(omp_get_num_threads());
+  const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
+  if (threads > prepared_threads_) throw std::logic_error("BroadPhaseGrid: team larger than prepared");
+  // Each thread owns a contiguous chunk of objects: the propagator's static schedule wrote the same
+  // chunk's end states, so the first pass reads what this core already holds.
+  const std::size_t begin = n * t / threads, end = n * (t + 1) / threads;
+  // The cell edge guessed from the last step (read by every thread before anyone may change it).
+  const double guess = next_cell_m_;
+  std::uint32_t* counts = &coarse_count_[t * partitions];
+  std::vector<std::uint32_t>& my_oversized = thread_oversized_[t];
 
-    // Counting sort by bucket, stable (population order inside a bucket, whatever the thread count),
-    // oversized objects left out: each thread counts its contiguous chunk of objects per coarse
-    // partition (the bucket's top bits); partitions are laid out in order, chunks in order inside them;
-    // then each partition is sorted by its fine buckets on its own.
-    const std::size_t threads = static_cast<std::size_t>(omp_get_num_threads());
-    const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
-    const std::size_t begin = n * t / threads, end = n * (t + 1) / threads;
-    std::uint32_t* mine = &coarse_count_[t * partitions];
-    std::fill(mine, mine + partitions, 0u);
-    std::vector<std::uint32_t>& my_oversized = thread_oversized_[t];
-    my_oversized.clear();
+  // Cell keys, the crossing bits and the coarse counts of this thread's chunk for cell edge `cell`.
+  auto key_chunk = [&](double cell) {
+    const double inverse_cell = 1.0 / cell;
+    std::fill(counts, counts + partitions, 0u);
     for (std::size_t i = begin; i < end; ++i) {
       SlotBox& box = box_[i];
-      const std::uint64_t key = (axis_cell(box.lo[0], inverse_cell) << (2 * kAxisBits)) |
-                                (axis_cell(box.lo[1], inverse_cell) << kAxisBits) |
-                                axis_cell(box.lo[2], inverse_cell);
-      box.key = key;
+      const std::uint64_t cx = axis_cell(box.lo[0], inverse_cell), cy = axis_cell(box.lo[1], inverse_cell),
+                          cz = axis_cell(box.lo[2], inverse_cell);
+      box.key = (cx << (2 * kAxisBits)) | (cy << kAxisBits) | cz;
       // Monotone cells: a box whose upper corner is in its lower corner's cell along an axis lies below
       // every lower corner of a later cell on that axis.
-      box.crosses = (axis_cell(box.hi[0], inverse_cell) != axis_cell(box.lo[0], inverse_cell) ? 1u : 0u) |
-                    (axis_cell(box.hi[1], inverse_cell) != axis_cell(box.lo[1], inverse_cell) ? 2u : 0u) |
-                    (axis_cell(box.hi[2], inverse_cell) != axis_cell(box.lo[2], inverse_cell) ? 4u : 0u);
-      const std::uint32_t b = static_cast<std::uint32_t>(bucket_of(key));
-      bucket_[i] = b;
-      if (oversized_flag_[i])
-        my_oversized.push_back(static_cast<std::uint32_t>(i));
-      else
-        ++mine[b >> fine_bits];
+      box.crosses = (axis_cell(box.hi[0], inverse_cell) != cx ? 1u : 0u) |
+                    (axis_cell(box.hi[1], inverse_cell) != cy ? 2u : 0u) |
+                    (axis_cell(box.hi[2], inverse_cell) != cz ? 4u : 0u);
+      if (!oversized_flag_[i]) ++counts[bucket_of(box.key) >> fine_bits_];
     }
-#pragma omp barrier
-#pragma omp single
-    {
-      cell_size_m_ = cell;
-      oversized_.clear();
-      for (std::size_t u = 0; u < threads; ++u)
-        oversized_.insert(oversized_.end(), thread_oversized_[u].begin(), thread_oversized_[u].end());
-      std::uint32_t running = 0;
-      for (std::size_t p = 0; p < partitions; ++p) {
-        partition_start_[p] = running;
-        for (std::size_t u = 0; u < threads; ++u) {
-          const std::uint32_t c = coarse_count_[u * partitions + p];
-          coarse_count_[u * partitions + p] = running;  // becomes the write cursor
-          running += c;
-        }
+  };
+
+  // Pass 1: grown boxes, the oversized objects, the largest edge, and (with the guessed cell) keys.
+  my_oversized.clear();
+  double largest_edge = 0.0;
+  for (std::size_t i = begin; i < end; ++i) {
+    const double grow = share(i) + kRoundingMargin_m;
+    const double p0[3] = {s0.x[i], s0.y[i], s0.z[i]};
+    const double v0[3] = {s0.vx[i], s0.vy[i], s0.vz[i]};
+    const double p1[3] = {s1.x[i], s1.y[i], s1.z[i]};
+    const double v1[3] = {s1.vx[i], s1.vy[i], s1.vz[i]};
+    double lo[3], hi[3], motion_edge = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      if (hermite) {
+        min_max4(p0[k], p0[k] + dt * v0[k] / 3.0, p1[k] - dt * v1[k] / 3.0, p1[k], lo[k], hi[k]);
+      } else {
+        const double e = p0[k] + dt * v0[k];
+        lo[k] = std::min(p0[k], e);
+        hi[k] = std::max(p0[k], e);
       }
-      partition_start_[partitions] = running;
-      bucket_start_[buckets] = running;
+      motion_edge = std::max(motion_edge, hi[k] - lo[k]);
+      lo[k] -= grow;
+      hi[k] += grow;
     }
-    for (std::size_t i = begin; i < end; ++i)
-      if (!oversized_flag_[i]) scratch_[mine[bucket_[i] >> fine_bits]++] = static_cast<std::uint32_t>(i);
-#pragma omp barrier
-#pragma omp for schedule(dynamic, 4)
-    for (std::int64_t pp = 0; pp < static_cast<std::int64_t>(partitions); ++pp) {
-      const std::size_t p = static_cast<std::size_t>(pp);
-      const std::size_t first_bucket = p * fine_buckets;
-      std::uint32_t* starts = &bucket_start_[first_bucket];
-      std::fill(starts, starts + fine_buckets, 0u);
-      std::fill(&occupied_[first_bucket / 64], &occupied_[first_bucket / 64] + fine_buckets / 64, 0ull);
-      const std::uint32_t lo = partition_start_[p], hi = partition_start_[p + 1];
-      for (std::uint32_t m = lo; m < hi; ++m) {
-        const std::uint32_t b = bucket_[scratch_[m]];
-        ++starts[b - first_bucket];
-        occupied_[b >> 6] |= std::uint64_t{1} << (b & 63);
-      }
-      std::uint32_t running = lo;
-      for (std::size_t f = 0; f < fine_buckets; ++f) {
-        const std::uint32_t c = starts[f];
-        starts[f] = running;
-        running += c;
-      }
-      // Scatter whole records with the starts as cursors (stable: population order inside a bucket),
-      // then shift the starts back.
-      for (std::uint32_t m = lo; m < hi; ++m) {
-        const std::uint32_t i = scratch_[m];
-        slot_[starts[bucket_[i] - first_bucket]++] = box_[i];
-      }
-      for (std::size_t f = fine_buckets; f-- > 1;) starts[f] = starts[f - 1];
-      starts[0] = lo;
+    const bool oversized =
+        !(motion_edge <= max_motion_m) || !std::isfinite(lo[0] + lo[1] + lo[2] + hi[0] + hi[1] + hi[2]);
+    oversized_flag_[i] = oversized;
+    SlotBox& box = box_[i];
+    for (int k = 0; k < 3; ++k) {
+      box.lo[k] = lo[k];
+      box.hi[k] = hi[k];
+    }
+    box.index = static_cast<std::uint32_t>(i);
+    if (oversized) {
+      my_oversized.push_back(static_cast<std::uint32_t>(i));
+    } else {
+      largest_edge = std::max(largest_edge, std::max(std::max(hi[0] - lo[0], hi[1] - lo[1]), hi[2] - lo[2]));
     }
   }
-  slots_in_grid_ = n - oversized_.size();
+  thread_edge_[t] = largest_edge;
+  if (guess > 0.0) key_chunk(guess);
+#pragma omp barrier
+  // Every thread takes the same maximum over the chunks (exact: no order dependence).
+  double largest = 0.0;
+  for (std::size_t u = 0; u < threads; ++u) largest = std::max(largest, thread_edge_[u]);
+  double cell = guess;
+  const bool fits = guess > 0.0 && largest * (1.0 + 1e-9) <= guess;  // 1e-9: rounding of the keys
+  if (!fits) {
+    // The guess is too small (or there is none): key again with a cell of this step's largest edge.
+    cell = std::max(largest, 1.0) * (1.0 + kCellMargin);
+    key_chunk(cell);
+#pragma omp barrier
+  }
+
+  // Layout: partitions in order, each thread's chunk in order inside a partition. Every thread reads
+  // all counts and computes its own cursors (no serial section); thread 0 also records the starts.
+  std::uint32_t* cursors = &cursor_[t * partitions];
+  std::uint32_t running = 0;
+  for (std::size_t p = 0; p < partitions; ++p) {
+    if (t == 0) partition_start_[p] = running;
+    for (std::size_t u = 0; u < threads; ++u) {
+      if (u == t) cursors[p] = running;
+      running += coarse_count_[u * partitions + p];
+    }
+  }
+  if (t == 0) {
+    partition_start_[partitions] = running;
+    bucket_start_[buckets] = running;
+    cell_size_m_ = cell;
+    ++builds_;
+    if (!fits) ++rekeyed_builds_;
+    // Next step's guess: this step's cell, unless it has become much larger than needed.
+    const double needed = std::max(largest, 1.0) * (1.0 + kCellMargin);
+    next_cell_m_ = (fits && cell <= needed * kCellShrinkRatio) ? cell : needed;
+  }
+  // (bucket, index) pairs, so the partition sort counts from a sequential read.
+  for (std::size_t i = begin; i < end; ++i)
+    if (!oversized_flag_[i]) {
+      const std::uint64_t b = bucket_of(box_[i].key);
+      scratch_[cursors[b >> fine_bits_]++] = (b << 32) | i;
+    }
+#pragma omp barrier
+    // The oversized objects in population order (the chunks are in order).
+#pragma omp single nowait
+  {
+    oversized_.clear();
+    for (std::size_t u = 0; u < threads; ++u)
+      oversized_.insert(oversized_.end(), thread_oversized_[u].begin(), thread_oversized_[u].end());
+    slots_in_grid_ = n - oversized_.size();
+  }
+  // Each coarse partition sorted by its fine buckets on its own (stable: population order inside a
+  // bucket, whatever the thread count). The loop's closing barrier completes the grid.
+#pragma omp for schedule(dynamic, 1)
+  for (std::int64_t pp = 0; pp < static_cast<std::int64_t>(partitions); ++pp) {
+    const std::size_t p = static_cast<std::size_t>(pp);
+    const std::size_t first_bucket = p * fine_buckets;
+    std::uint32_t* starts = &bucket_start_[first_bucket];
+    std::fill(starts, starts + fine_buckets, 0u);
+    std::fill(&occupied_[first_bucket / 64], &occupied_[first_bucket / 64] + fine_buckets / 64, 0ull);
+    const std::uint32_t lo = partition_start_[p], hi = partition_start_[p + 1];
+    for (std::uint32_t m = lo; m < hi; ++m) {
+      const std::size_t b = static_cast<std::size_t>(scratch_[m] >> 32);
+      ++starts[b - first_bucket];
+      occupied_[b >> 6] |= std::uint64_t{1} << (b & 63);
+    }
+    std::uint32_t start = lo;
+    for (std::size_t f = 0; f < fine_buckets; ++f) {
+      const std::uint32_t c = starts[f];
+      starts[f] = start;
+      start += c;
+    }
+    // Scatter whole records with the starts as cursors, then shift the starts back.
+    for (std::uint32_t m = lo; m < hi; ++m) {
+      const std::size_t b = static_cast<std::size_t>(scratch_[m] >> 32);
+      slot_[starts[b - first_bucket]++] = box_[scratch_[m] & 0xFFFFFFFFu];
+    }
+    for (std::size_t f = fine_buckets; f-- > 1;) starts[f] = starts[f - 1];
+    starts[0] = lo;
+  }
 }
 
 void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,

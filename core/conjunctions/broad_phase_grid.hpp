@@ -9,18 +9,20 @@
 // distance), plus 1 mm against rounding. Two objects can be within kappa_max (r_i + r_j) (or the
 // screening distance) at some instant only if their grown boxes overlap: they would have to be within
 // that distance even allowing each to be anywhere in its box at any time.
-// The grid's cell edge L is the largest edge of any grown box in this step (times 1 + 1e-9 against
-// rounding): the largest displacement of an object in the step along an axis plus the largest
-// threshold share, i.e. the cutoff. If two boxes overlap on an axis, lo_j <= hi_i <= lo_i + L and
-// lo_i <= lo_j + L, so their lower corners are within L and fall in the same or adjacent cells. Every
-// overlapping pair is therefore found by looking at a cell and its 26 neighbours (13 forward ones plus
-// itself, each unordered pair once), and the exact box-overlap test keeps only real candidates.
-// An upper bound of L for any population (validation): a bound orbit above the Earth's surface moves at
-// most at the surface escape speed (11.19 km/s), and the Bezier hull spans at most 5/3 of v dt, so
-// L <= 5/3 * 11.19 km/s * dt + 2 max h_i.
+// The grid's cell edge L is at least the largest edge of any grown box in this step: the largest
+// displacement of an object in the step along an axis plus the largest threshold share, i.e. the
+// cutoff. (It is the last step's largest edge plus 2 % when this step's boxes fit in that, else this
+// step's plus 2 %: the candidates depend only on the boxes, never on L, and the keys are then computed
+// in the same pass as the boxes, with no wait for the maximum.) If two boxes overlap on an axis, lo_j <= hi_i
+// <= lo_i + L and lo_i <= lo_j + L, so their lower corners are within L and fall in the same or adjacent
+// cells. Every overlapping pair is therefore found by looking at a cell and its 26 neighbours (13 forward
+// ones plus itself, each unordered pair once), and the exact box-overlap test keeps only real candidates. An
+// upper bound of L for any population (validation): a bound orbit above the Earth's surface moves at most at
+// the surface escape speed (11.19 km/s), and the Bezier hull spans at most 5/3 of v dt, so L <= 5/3 * 11.19
+// km/s * dt + 2 max h_i.
 //
-// Objects whose grown box is larger than that bound (non-finite or unbound states: a propagation gone
-// wrong, an object falling through the Earth before its burn-up is applied) would blow the cell up and
+// Objects whose motion spans more than that bound along an axis (non-finite or unbound states: a propagation
+// gone wrong, an object falling through the Earth before its burn-up is applied) would blow the cell up and
 // make every pair a neighbour. They are kept out of the grid and tested against every object instead
 // (O(N) each), so one bad object costs O(N), not O(N^2).
 //
@@ -29,6 +31,10 @@
 // ranges (own cell and z + 1; z - 1..z + 1 of four neighbouring rows); an occupancy bitmap (1 bit per
 // bucket, in L1) skips empty ones. Objects are ordered by bucket with a parallel, stable counting sort,
 // so memory and time stay O(N) whatever the domain's size and the result never depends on threads.
+// The build runs inside the caller's parallel region with three barriers (boxes and keys; scatter into
+// coarse partitions; sort of each partition by fine bucket) and no serial section: every thread
+// computes the partition layout itself from all threads' counts. Each thread keeps the contiguous
+// chunk of objects whose end states the propagator's static schedule wrote on the same core.
 // Each slot is one 64-byte record (box, cell key, index): one cache line per visited slot.
 // (A linear bucket function, x cx + y cy + z, which puts neighbour rows at fixed offsets, was measured
 // and did not pay: 149.7 vs 145.5 ns per object-step at 320k, equal at 19,647.)
@@ -52,6 +58,15 @@ namespace kessler {
 // Below this many objects a step is too small to be worth waking threads for.
 inline constexpr std::size_t kParallelMinimumObjects = 1000;
 
+// Each object's share of the threshold [m]: kappa_max r_i, or a fixed share (half the screening distance)
+// when no radii are given. Two objects are candidates when their boxes, each grown by its share, overlap.
+struct ThresholdShare {
+  const double* radius_m = nullptr;
+  double kappa = 0.0;
+  double fixed_m = 0.0;
+  double operator()(std::size_t i) const { return radius_m != nullptr ? kappa * radius_m[i] : fixed_m; }
+};
+
 // Two population indices of a candidate pair.
 struct CandidatePair {
   std::uint32_t i, j;
@@ -67,10 +82,16 @@ class BroadPhaseGrid {
     return 5.0 / 3.0 * kMaxOrbitalSpeed_m_s * dt_s + 2.0 * max_share_m;
   }
 
-  // Builds the boxes and the grid for one step. share_m[i] is object i's share of the threshold.
-  // Boxes larger than oversize_m along an axis are kept out of the grid (see above).
-  // Parallel inside (call outside any parallel region).
-  void build(const StepEnds& step, NarrowPhase motion, const std::vector<double>& share_m, double oversize_m);
+  // Sizes the scratch for n objects and teams of up to `threads` threads (outside a parallel region).
+  void prepare(std::size_t n, int threads);
+  // Builds the boxes and the grid for one step. Called by every thread of the current team, inside a
+  // parallel region, after prepare(); it returns when the grid is complete for all of them. Objects whose
+  // motion spans more than max_motion_m along an axis (or is not finite) are oversized: kept out of the
+  // grid (see above).
+  void build_in_team(const StepEnds& step, NarrowPhase motion, const ThresholdShare& share,
+                     double max_motion_m);
+  // The same with a team of its own (call outside any parallel region).
+  void build(const StepEnds& step, NarrowPhase motion, const ThresholdShare& share, double max_motion_m);
 
   // Number of slots (objects in bucket order); pairs are enumerated per slot range so threads can split
   // the work. Appends each candidate pair (boxes overlap) whose first member is in [slot_begin, slot_end).
@@ -83,6 +104,10 @@ class BroadPhaseGrid {
   void collect_oversized_pairs(std::size_t begin, std::size_t end, std::vector<CandidatePair>& out) const;
 
   double cell_size_m() const { return cell_size_m_; }
+  // Builds so far, and those whose guessed cell (the last step's) was too small, so keys were computed
+  // twice.
+  std::size_t builds() const { return builds_; }
+  std::size_t rekeyed_builds() const { return rekeyed_builds_; }
 
  private:
   // Bucket of a cell: a hash of its row (x, y) plus its z cell, so the cells of a row along z fall in
@@ -122,18 +147,25 @@ class BroadPhaseGrid {
   };
 
   double cell_size_m_ = 0.0;
+  // The cell edge to try first in the next build: the candidates never depend on it (only on the boxes),
+  // so carrying it from step to step changes no result, and saves a pass when it fits.
+  double next_cell_m_ = 0.0;
+  std::size_t builds_ = 0, rekeyed_builds_ = 0;
   std::size_t bucket_mask_ = 0;
+  int coarse_bits_ = 0, fine_bits_ = 0;
+  std::size_t prepared_threads_ = 0;
   std::size_t slots_in_grid_ = 0;
   std::vector<SlotBox> box_;   // per object (population index)
   std::vector<SlotBox> slot_;  // per slot (bucket order)
-  std::vector<std::uint32_t> bucket_;
   std::vector<char> oversized_flag_;
   std::vector<std::uint32_t> oversized_;     // population indices, ascending
   std::vector<std::uint32_t> bucket_start_;  // size buckets + 1
   std::vector<std::uint64_t> occupied_;      // one bit per bucket
   // Counting-sort scratch.
-  std::vector<std::uint32_t> scratch_, coarse_count_, partition_start_;
+  std::vector<std::uint64_t> scratch_;  // (bucket << 32) | index, in coarse partitions
+  std::vector<std::uint32_t> coarse_count_, cursor_, partition_start_;
   std::vector<std::vector<std::uint32_t>> thread_oversized_;
+  std::vector<double> thread_edge_;  // per thread: the largest box edge of its chunk
 };
 
 }  // namespace kessler

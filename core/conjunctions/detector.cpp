@@ -77,30 +77,30 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
   if (n < 2) return;
 
   const double t_begin = omp_get_wtime();
-  const bool screening = settings_.screening_distance_m > 0.0;
-  shares_.resize(n);
-  for (std::size_t i = 0; i < n; ++i)
-    shares_[i] =
-        screening ? 0.5 * settings_.screening_distance_m : settings_.kappa_max * population.radius_m[i];
-
-  // No bound orbit moves a box further than the validation bound; larger boxes are oversized.
-  double largest_share = 0.0;
-  for (double share : shares_) largest_share = std::max(largest_share, share);
-  grid_.build(step, settings_.narrow_phase, shares_,
-              BroadPhaseGrid::cutoff_bound_m(step.dt_s, largest_share) + 2.0 * 1e-3);
+  ThresholdShare share;
+  if (settings_.screening_distance_m > 0.0) {
+    share.fixed_m = 0.5 * settings_.screening_distance_m;
+  } else {
+    share.radius_m = population.radius_m.data();
+    share.kappa = settings_.kappa_max;
+  }
+  // No bound orbit moves further along an axis in a step than this; objects that do are oversized.
+  const double max_motion_m = BroadPhaseGrid::cutoff_bound_m(step.dt_s, 0.0) + 1e-3;
 
   const int threads = n >= kParallelMinimumObjects ? omp_get_max_threads() : 1;
+  grid_.prepare(n, threads);
   candidates_.resize(static_cast<std::size_t>(threads));
   events_.resize(static_cast<std::size_t>(threads));
   collected_at_.assign(static_cast<std::size_t>(threads), t_begin);
   // Cleared here: OpenMP may give the region fewer threads than asked for.
   for (auto& list : candidates_) list.clear();
   for (auto& list : events_) list.clear();
-  const std::size_t slots = grid_.slot_count();
-  // One region, no barrier between the phases: each thread collects its share of candidate pairs into
-  // its own compact array, then runs the narrow phase on them.
+    // One region per step: the grid (three barriers inside), then each thread collects its share of
+    // candidate pairs into its own compact array and runs the narrow phase on them, with no barrier.
 #pragma omp parallel num_threads(threads)
   {
+    grid_.build_in_team(step, settings_.narrow_phase, share, max_motion_m);
+    const std::size_t slots = grid_.slot_count();
     const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
     std::vector<CandidatePair>& mine = candidates_[t];
     // Slot blocks handed out dynamically: dense regions of the sky cost more.

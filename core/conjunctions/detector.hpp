@@ -31,6 +31,8 @@ class ConjunctionDetector {
   double last_narrow_s() const { return last_narrow_s_; }
   // Candidate pairs the broad phase produced in the last scan.
   std::size_t last_candidate_pairs() const { return last_candidate_pairs_; }
+  // The broad phase's grid (its cell size and build counts, for benchmarks).
+  const BroadPhaseGrid& grid() const { return grid_; }
 
  private:
   ConjunctionSettings settings_;
@@ -44,7 +46,6 @@ class ConjunctionDetector {
 
   // Scratch kept between scans so a step allocates nothing once warm.
   BroadPhaseGrid grid_;
-  std::vector<double> shares_;                          // per object: its share of the threshold [m]
   std::vector<std::vector<CandidatePair>> candidates_;  // per thread
   std::vector<std::vector<Encounter>> events_;          // per thread
   std::vector<double> collected_at_;                    // per thread: when its candidates were complete

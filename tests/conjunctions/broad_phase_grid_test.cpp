@@ -56,12 +56,12 @@ StateArrays dense_population(std::size_t n, double extent_m, unsigned seed) {
   return s;
 }
 
-std::set<std::pair<std::uint32_t, std::uint32_t>> grid_pairs(const StateArrays& s, double dt, double share,
-                                                             std::size_t& listed) {
-  BroadPhaseGrid grid;
-  const std::vector<double> shares(s.size(), share);
+std::set<std::pair<std::uint32_t, std::uint32_t>> grid_pairs(BroadPhaseGrid& grid, const StateArrays& s,
+                                                             double dt, double share, std::size_t& listed) {
+  ThresholdShare shares;
+  shares.fixed_m = share;
   grid.build(StepEnds{0.0, dt, &s, &s}, NarrowPhase::kLinear, shares,
-             BroadPhaseGrid::cutoff_bound_m(dt, share) + 2e-3);
+             BroadPhaseGrid::cutoff_bound_m(dt, 0.0));
   std::vector<CandidatePair> out;
   grid.collect_pairs(0, grid.slot_count(), out);
   listed = out.size();
@@ -70,9 +70,18 @@ std::set<std::pair<std::uint32_t, std::uint32_t>> grid_pairs(const StateArrays& 
   return pairs;
 }
 
-void expect_grid_matches_all_pairs(const StateArrays& s, double dt, double share) {
+std::set<std::pair<std::uint32_t, std::uint32_t>> grid_pairs(const StateArrays& s, double dt, double share,
+                                                             std::size_t& listed) {
+  BroadPhaseGrid grid;
+  return grid_pairs(grid, s, dt, share, listed);
+}
+
+// A grid that has served other steps before (its cell size carried over) may be passed in.
+void expect_grid_matches_all_pairs(const StateArrays& s, double dt, double share,
+                                   BroadPhaseGrid* reused = nullptr) {
   std::size_t listed = 0;
-  const auto found = grid_pairs(s, dt, share, listed);
+  BroadPhaseGrid fresh;
+  const auto found = grid_pairs(reused ? *reused : fresh, s, dt, share, listed);
   EXPECT_EQ(listed, found.size()) << "a pair listed twice";
   std::size_t overlapping = 0;
   for (std::uint32_t i = 0; i < s.size(); ++i) {
@@ -99,6 +108,24 @@ TEST(BroadPhaseGrid, EveryOverlappingPairOnceInADenseCloud) {
 TEST(BroadPhaseGrid, EveryOverlappingPairOnceWithClampedCells) {
   // dt 1e-4 s: boxes of ~1 m, cells of ~1 m, so 7,000 km lies beyond the cell range and clamps.
   expect_grid_matches_all_pairs(dense_population(1500, 4.0, 2), 1e-4, 0.3);
+}
+
+TEST(BroadPhaseGrid, CellCarriedBetweenStepsWhetherBoxesGrowOrShrink) {
+  // The cell edge is guessed from the last step. Steps whose boxes grow past the guess (key again),
+  // fit it, and shrink far below it must all give exactly the overlapping pairs.
+  const StateArrays slow = dense_population(2000, 2.0e5, 4);
+  BroadPhaseGrid grid;
+  expect_grid_matches_all_pairs(slow, 2.0, 300.0, &grid);  // first build: no guess
+  const double small_cell = grid.cell_size_m();
+  expect_grid_matches_all_pairs(slow, 10.0, 300.0, &grid);  // boxes 5x larger than the guess
+  EXPECT_GT(grid.cell_size_m(), 4.0 * small_cell);
+  EXPECT_EQ(grid.rekeyed_builds(), 2u);
+  expect_grid_matches_all_pairs(slow, 10.0, 300.0, &grid);  // the same boxes: the guess fits
+  EXPECT_EQ(grid.rekeyed_builds(), 2u);
+  expect_grid_matches_all_pairs(slow, 2.0, 300.0, &grid);  // much smaller boxes in a large cell
+  expect_grid_matches_all_pairs(slow, 2.0, 300.0, &grid);  // and the cell shrinks back
+  EXPECT_NEAR(grid.cell_size_m(), small_cell, 1e-9 * small_cell);
+  EXPECT_EQ(grid.builds(), 5u);
 }
 
 TEST(BroadPhaseGrid, SamePairsForOneTwoAndFourThreads) {
