@@ -6,6 +6,8 @@
 
 #include "core/integration/yoshida_propagator.hpp"
 
+#include "core/physics/constants.hpp"
+
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -13,9 +15,8 @@
 #include <omp.h>
 
 namespace kessler {
-namespace {
 
-struct StepArrays {
+struct YoshidaPropagator::StepArrays {
   double* x;
   double* y;
   double* z;
@@ -25,6 +26,10 @@ struct StepArrays {
   const double* drag_area_to_mass;
   const double* srp_area_to_mass;
 };
+
+namespace {
+
+using StepArrays = YoshidaPropagator::StepArrays;
 
 template <AtmosphereModel kAtmosphere>
 void yoshida_step(const StepArrays& s, std::size_t n, const ForceInstant& f1, const ForceInstant& f2,
@@ -88,14 +93,6 @@ void YoshidaPropagator::step(Population& population, double t_start_s, double dt
       population.srp_area_to_mass_m2_kg.size() != n)
     throw std::invalid_argument("YoshidaPropagator: population arrays differ in length");
   if (n == 0) return;
-  // Sub-step times: after drift c1, after drifts c1 + c2 (= dt/2), after c1 + 2 c2 (= dt - c1).
-  ForceInstant f1 = model_.instant(t_start_s + kC1 * dt_s);
-  ForceInstant f2 = model_.instant(t_start_s + 0.5 * dt_s);
-  ForceInstant f3 = model_.instant(t_start_s + (kC1 + 2.0 * kC2) * dt_s);
-  // Drag rate k |v_rel| times the longest kick (|w0| dt) at most 1/4, i.e. at most 1/8 per half-flow, so a
-  // kick's drag changes v_rel by a factor in [1/1.125^2, 1/0.875^2] (drag.hpp): inactive above ~100 km.
-  const double drag_limit = kDragRateLimitPerKick / (std::abs(kW0) * dt_s);
-  f1.drag_rate_limit_per_s = f2.drag_rate_limit_per_s = f3.drag_rate_limit_per_s = drag_limit;
   StepArrays arrays{st.x.data(),
                     st.y.data(),
                     st.z.data(),
@@ -105,6 +102,54 @@ void YoshidaPropagator::step(Population& population, double t_start_s, double dt
                     population.drag_area_to_mass_m2_kg.data(),
                     population.srp_area_to_mass_m2_kg.data()};
   const int threads = threads_ > 0 ? threads_ : omp_get_max_threads();
+
+  // Objects that start the step low in the atmosphere take kLowAltitudeSubsteps steps of dt / k instead
+  // (on copies of their states, merged after the main pass). The choice depends on the object's own
+  // state alone, so it is the same for any thread count and after a restart.
+  const double low_radius_m = constants::kEarthEquatorialRadius_m + kLowAltitude_m;
+  const double low_radius2 = low_radius_m * low_radius_m;
+  low_.clear();
+  if (model_.settings().drag)
+    for (std::size_t i = 0; i < n; ++i)
+      if (st.x[i] * st.x[i] + st.y[i] * st.y[i] + st.z[i] * st.z[i] < low_radius2)
+        low_.push_back(static_cast<std::uint32_t>(i));
+  if (!low_.empty()) {
+    const std::size_t m = low_.size();
+    low_state_.resize(8 * m);
+    double* c = low_state_.data();
+    for (std::size_t k = 0; k < m; ++k) {
+      const std::size_t i = low_[k];
+      c[k] = st.x[i], c[m + k] = st.y[i], c[2 * m + k] = st.z[i];
+      c[3 * m + k] = st.vx[i], c[4 * m + k] = st.vy[i], c[5 * m + k] = st.vz[i];
+      c[6 * m + k] = population.drag_area_to_mass_m2_kg[i];
+      c[7 * m + k] = population.srp_area_to_mass_m2_kg[i];
+    }
+    const StepArrays low{c, c + m, c + 2 * m, c + 3 * m, c + 4 * m, c + 5 * m, c + 6 * m, c + 7 * m};
+    const double h = dt_s / kLowAltitudeSubsteps;
+    for (int sub = 0; sub < kLowAltitudeSubsteps; ++sub) step_arrays(low, m, t_start_s + sub * h, h, 1);
+  }
+  step_arrays(arrays, n, t_start_s, dt_s, threads);
+  if (!low_.empty()) {
+    const std::size_t m = low_.size();
+    const double* c = low_state_.data();
+    for (std::size_t k = 0; k < m; ++k) {
+      const std::size_t i = low_[k];
+      st.x[i] = c[k], st.y[i] = c[m + k], st.z[i] = c[2 * m + k];
+      st.vx[i] = c[3 * m + k], st.vy[i] = c[4 * m + k], st.vz[i] = c[5 * m + k];
+    }
+  }
+}
+
+void YoshidaPropagator::step_arrays(const StepArrays& arrays, std::size_t n, double t_start_s, double dt_s,
+                                    int threads) const {
+  // Sub-step times: after drift c1, after drifts c1 + c2 (= dt/2), after c1 + 2 c2 (= dt - c1).
+  ForceInstant f1 = model_.instant(t_start_s + kC1 * dt_s);
+  ForceInstant f2 = model_.instant(t_start_s + 0.5 * dt_s);
+  ForceInstant f3 = model_.instant(t_start_s + (kC1 + 2.0 * kC2) * dt_s);
+  // Drag rate k |v_rel| times the longest kick (|w0| dt) at most 1/4, i.e. at most 1/8 per half-flow, so a
+  // kick's drag changes v_rel by a factor in [1/1.125^2, 1/0.875^2] (drag.hpp): inactive above ~100 km.
+  const double drag_limit = kDragRateLimitPerKick / (std::abs(kW0) * dt_s);
+  f1.drag_rate_limit_per_s = f2.drag_rate_limit_per_s = f3.drag_rate_limit_per_s = drag_limit;
   if (model_.settings().atmosphere == AtmosphereModel::kDensityTable)
     yoshida_step<AtmosphereModel::kDensityTable>(arrays, n, f1, f2, f3, dt_s, threads);
   else

@@ -149,6 +149,48 @@ TEST(Yoshida, LowPerigeeDragKeepsFourthOrder) {
   EXPECT_LT(errors[2], 10.0);  // dt 10 s (was 200 m for leo-19647 object 14524)
 }
 
+// Objects below 300 km take four sub-steps. The choice and the result depend on the object alone: the
+// same bits alone or among 3,000 higher objects, with 1 or 2 threads, and only low objects are chosen.
+TEST(Yoshida, LowObjectsTakeSubstepsWhateverTheirCompany) {
+  Eigen::Vector3d r_low, v_low;
+  const double e = 0.088, a = (6378137.0 + 191e3) / (1.0 - e);
+  testing::state_from_elements(a, e, 51.6 * kDeg, 0.3, 1.1, 0.0, r_low, v_low);  // at perigee
+  Population alone = one_object(r_low, v_low);
+  alone.drag_area_to_mass_m2_kg[0] = 0.40;
+  Population crowd;
+  for (int k = 0; k < 3000; ++k) {
+    Eigen::Vector3d r, v;
+    testing::state_from_elements(6378137.0 + 500e3 + k, 0.001, 0.9, 0.01 * k, 0.0, 0.002 * k, r, v);
+    Population one = one_object(r, v);
+    one.id[0] = 1000 + k;
+    crowd.add(one.record(0));
+  }
+  crowd.add(alone.record(0));
+  const std::size_t low_index = crowd.size() - 1;
+  YoshidaPropagator single(ForceModelSettings{}, kEpoch), team(ForceModelSettings{}, kEpoch);
+  single.set_threads(1);
+  team.set_threads(2);
+  std::size_t substepped_steps = 0;
+  for (int s = 0; s < 600; ++s) {
+    single.step(alone, s * 10.0, 10.0);
+    team.step(crowd, s * 10.0, 10.0);
+    const auto& chosen = team.last_substepped();
+    ASSERT_LE(chosen.size(), 1u);
+    if (!chosen.empty()) {
+      EXPECT_EQ(chosen[0], low_index);
+      ++substepped_steps;
+    }
+    EXPECT_EQ(single.last_substepped().size(), chosen.size());
+  }
+  // Perigee at 191 km, apogee near 1,400 km: a part of each orbit is below 300 km, most is not.
+  EXPECT_GT(substepped_steps, 20u);
+  EXPECT_LT(substepped_steps, 300u);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(alone.state.position(0)[k], crowd.state.position(low_index)[k]);
+    EXPECT_EQ(alone.state.velocity(0)[k], crowd.state.velocity(low_index)[k]);
+  }
+}
+
 // The drag sub-flow against its closed form, and its time symmetry (negative h undoes positive h), which
 // is what makes each kick symmetric.
 TEST(Yoshida, DragFlowIsTheExactSolutionAndReversible) {
