@@ -17,7 +17,7 @@ constexpr double kRoundingMargin_m = 1e-3;
 constexpr int kMaxCoarseBits = 8;
 // The cell edge over the largest box edge: room for the next step's boxes to grow a little, so the
 // guessed cell usually fits and the keys are computed once.
-constexpr double kCellMargin = 0.02;
+constexpr double kCellMargin = 0.005;
 // A guessed cell more than this factor above what the step needs is shrunk.
 constexpr double kCellShrinkRatio = 1.05;
 
@@ -133,43 +133,58 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     }
   };
 
-  // Pass 1: grown boxes, the oversized objects, the largest edge, and (with the guessed cell) keys.
-  my_oversized.clear();
+  // Pass 1: grown boxes, the oversized objects, the largest edge, and (with the guessed cell) keys. The
+  // box loop has no branch and no call, so it vectorises; the oversized objects (rare) are listed after.
   double largest_edge = 0.0;
-  for (std::size_t i = begin; i < end; ++i) {
-    const double grow = share(i) + kRoundingMargin_m;
-    const double p0[3] = {s0.x[i], s0.y[i], s0.z[i]};
-    const double v0[3] = {s0.vx[i], s0.vy[i], s0.vz[i]};
-    const double p1[3] = {s1.x[i], s1.y[i], s1.z[i]};
-    const double v1[3] = {s1.vx[i], s1.vy[i], s1.vz[i]};
-    double lo[3], hi[3], motion_edge = 0.0;
-    for (int k = 0; k < 3; ++k) {
-      if (hermite) {
-        min_max4(p0[k], p0[k] + dt * v0[k] / 3.0, p1[k] - dt * v1[k] / 3.0, p1[k], lo[k], hi[k]);
-      } else {
-        const double e = p0[k] + dt * v0[k];
-        lo[k] = std::min(p0[k], e);
-        hi[k] = std::max(p0[k], e);
+  int any_oversized = 0;
+  SlotBox* const boxes = box_.data();
+  char* const oversized_flags = oversized_flag_.data();
+  // The Bezier control points' offsets (dt v / 3; a product, not a division per object: rounding moves
+  // a box by an ulp, far inside the 1 mm margin). The straight line reaches p0 + dt v0.
+  const double reach = hermite ? dt / 3.0 : dt;
+  auto box_pass = [&]<bool kHermite>() {
+#pragma omp simd reduction(max : largest_edge) reduction(| : any_oversized)
+    for (std::size_t i = begin; i < end; ++i) {
+      const double grow = share(i) + kRoundingMargin_m;
+      const double p0[3] = {s0.x[i], s0.y[i], s0.z[i]};
+      const double v0[3] = {s0.vx[i], s0.vy[i], s0.vz[i]};
+      double lo[3], hi[3], motion_edge = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        if constexpr (kHermite) {
+          const double p1 = k == 0 ? s1.x[i] : k == 1 ? s1.y[i] : s1.z[i];
+          const double v1 = k == 0 ? s1.vx[i] : k == 1 ? s1.vy[i] : s1.vz[i];
+          min_max4(p0[k], p0[k] + reach * v0[k], p1 - reach * v1, p1, lo[k], hi[k]);
+        } else {
+          const double e = p0[k] + reach * v0[k];
+          lo[k] = std::min(p0[k], e);
+          hi[k] = std::max(p0[k], e);
+        }
+        motion_edge = std::max(motion_edge, hi[k] - lo[k]);
+        lo[k] -= grow;
+        hi[k] += grow;
       }
-      motion_edge = std::max(motion_edge, hi[k] - lo[k]);
-      lo[k] -= grow;
-      hi[k] += grow;
+      const bool oversized =
+          !(motion_edge <= max_motion_m) || !std::isfinite(lo[0] + lo[1] + lo[2] + hi[0] + hi[1] + hi[2]);
+      oversized_flags[i] = oversized;
+      any_oversized |= oversized;
+      SlotBox& box = boxes[i];
+      for (int k = 0; k < 3; ++k) {
+        box.lo[k] = lo[k];
+        box.hi[k] = hi[k];
+      }
+      box.index = static_cast<std::uint32_t>(i);
+      const double edge = std::max(std::max(hi[0] - lo[0], hi[1] - lo[1]), hi[2] - lo[2]);
+      largest_edge = std::max(largest_edge, oversized ? 0.0 : edge);
     }
-    const bool oversized =
-        !(motion_edge <= max_motion_m) || !std::isfinite(lo[0] + lo[1] + lo[2] + hi[0] + hi[1] + hi[2]);
-    oversized_flag_[i] = oversized;
-    SlotBox& box = box_[i];
-    for (int k = 0; k < 3; ++k) {
-      box.lo[k] = lo[k];
-      box.hi[k] = hi[k];
-    }
-    box.index = static_cast<std::uint32_t>(i);
-    if (oversized) {
-      my_oversized.push_back(static_cast<std::uint32_t>(i));
-    } else {
-      largest_edge = std::max(largest_edge, std::max(std::max(hi[0] - lo[0], hi[1] - lo[1]), hi[2] - lo[2]));
-    }
-  }
+  };
+  if (hermite)
+    box_pass.template operator()<true>();
+  else
+    box_pass.template operator()<false>();
+  my_oversized.clear();
+  if (any_oversized)
+    for (std::size_t i = begin; i < end; ++i)
+      if (oversized_flags[i]) my_oversized.push_back(static_cast<std::uint32_t>(i));
   thread_edge_[t] = largest_edge;
   if (guess > 0.0) key_chunk(guess);
 #pragma omp barrier

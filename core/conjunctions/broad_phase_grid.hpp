@@ -11,8 +11,8 @@
 // that distance even allowing each to be anywhere in its box at any time.
 // The grid's cell edge L is at least the largest edge of any grown box in this step: the largest
 // displacement of an object in the step along an axis plus the largest threshold share, i.e. the
-// cutoff. (It is the last step's largest edge plus 2 % when this step's boxes fit in that, else this
-// step's plus 2 %: the candidates depend only on the boxes, never on L, and the keys are then computed
+// cutoff. (It is the last step's largest edge plus 0.5 % when this step's boxes fit in that, else this
+// step's plus 0.5 %: the candidates depend only on the boxes, never on L, and the keys are then computed
 // in the same pass as the boxes, with no wait for the maximum.) If two boxes overlap on an axis, lo_j <= hi_i
 // <= lo_i + L and lo_i <= lo_j + L, so their lower corners are within L and fall in the same or adjacent
 // cells. Every overlapping pair is therefore found by looking at a cell and its 26 neighbours (13 forward
