@@ -310,23 +310,7 @@ void BroadPhaseGrid::pair_with_buckets(std::size_t k, std::size_t first_bucket, 
 
 void BroadPhaseGrid::collect_pairs(std::size_t slot_begin, std::size_t slot_end,
                                    std::vector<CandidatePair>& out) const {
-  // In large populations the bucket table and the neighbours' records miss the caches: ask for them
-  // ahead, the bucket starts kFar slots ahead and the records they point to kNear slots ahead.
-  constexpr std::size_t kFar = 16, kNear = 8;
-  auto rows_of = [&](std::size_t m, auto&& visit) {
-    const std::uint64_t key = slot_[m].key;
-    const std::uint32_t crosses = slot_[m].crosses;
-    visit(bucket_of(key));
-    for (int r = 0; r < 4; ++r)
-      if ((crosses & kForwardRowNeeds[r]) == kForwardRowNeeds[r])
-        visit((bucket_of(key + kForwardRows[r]) - 1) & bucket_mask_);
-  };
   for (std::size_t k = slot_begin; k < slot_end; ++k) {
-    if (k + kFar < slot_end) rows_of(k + kFar, [&](std::size_t b) { __builtin_prefetch(&bucket_start_[b]); });
-    if (k + kNear < slot_end)
-      rows_of(k + kNear, [&](std::size_t b) {
-        if ((occupied_[b >> 6] >> (b & 63)) & 1u) __builtin_prefetch(&slot_[bucket_start_[b]]);
-      });
     const std::uint64_t key = slot_[k].key;
     const std::uint32_t crosses = slot_[k].crosses;
     // z cells of a neighbour row: z - 1 and z, and z + 1 only if the box reaches into the next z cell.
