@@ -31,9 +31,10 @@ namespace {
 
 using StepArrays = YoshidaPropagator::StepArrays;
 
-template <AtmosphereModel kAtmosphere>
+// The start states are written to `start` (when not null) in the same pass.
+template <AtmosphereModel kAtmosphere, bool kKeepStart>
 void yoshida_step(const StepArrays& s, std::size_t n, const ForceInstant& f1, const ForceInstant& f2,
-                  const ForceInstant& f3, double dt, int threads) {
+                  const ForceInstant& f3, double dt, int threads, StateArrays* start) {
   const double c1 = YoshidaPropagator::kC1 * dt, c2 = YoshidaPropagator::kC2 * dt;
   const double d1 = YoshidaPropagator::kD1 * dt, d2 = YoshidaPropagator::kD2 * dt;
   const long count = static_cast<long>(n);
@@ -46,12 +47,22 @@ void yoshida_step(const StepArrays& s, std::size_t n, const ForceInstant& f1, co
   double* __restrict pvz = s.vz;
   const double* __restrict pcda = s.drag_area_to_mass;
   const double* __restrict pam = s.srp_area_to_mass;
+  double* __restrict sx = kKeepStart ? start->x.data() : nullptr;
+  double* __restrict sy = kKeepStart ? start->y.data() : nullptr;
+  double* __restrict sz = kKeepStart ? start->z.data() : nullptr;
+  double* __restrict svx = kKeepStart ? start->vx.data() : nullptr;
+  double* __restrict svy = kKeepStart ? start->vy.data() : nullptr;
+  double* __restrict svz = kKeepStart ? start->vz.data() : nullptr;
 // Tiny populations (tests, tools) run on the calling thread: a team costs more than it saves.
 #pragma omp parallel for simd schedule(static) num_threads(threads) if (count >= 512)
   for (long i = 0; i < count; ++i) {
     double x = px[i], y = py[i], z = pz[i];
     double vx = pvx[i], vy = pvy[i], vz = pvz[i];
     const double cda = pcda[i], am = pam[i];
+    if constexpr (kKeepStart) {
+      sx[i] = x, sy[i] = y, sz[i] = z;
+      svx[i] = vx, svy[i] = vy, svz[i] = vz;
+    }
     x += c1 * vx;
     y += c1 * vy;
     z += c1 * vz;
@@ -82,6 +93,16 @@ YoshidaPropagator::YoshidaPropagator(const ForceModelSettings& forces, const Utc
     : model_(forces, epoch) {}
 
 void YoshidaPropagator::step(Population& population, double t_start_s, double dt_s) {
+  advance(population, t_start_s, dt_s, nullptr);
+}
+
+void YoshidaPropagator::step_keeping_start(Population& population, double t_start_s, double dt_s,
+                                           StateArrays& start_out) {
+  advance(population, t_start_s, dt_s, &start_out);
+}
+
+void YoshidaPropagator::advance(Population& population, double t_start_s, double dt_s,
+                                StateArrays* start_out) {
   if (!std::isfinite(dt_s) || dt_s <= 0.0)
     throw std::invalid_argument("YoshidaPropagator: dt_s must be finite and positive, got " +
                                 std::to_string(dt_s));
@@ -92,6 +113,7 @@ void YoshidaPropagator::step(Population& population, double t_start_s, double dt
       st.vz.size() != n || population.drag_area_to_mass_m2_kg.size() != n ||
       population.srp_area_to_mass_m2_kg.size() != n)
     throw std::invalid_argument("YoshidaPropagator: population arrays differ in length");
+  if (start_out != nullptr) start_out->resize(n);
   if (n == 0) return;
   StepArrays arrays{st.x.data(),
                     st.y.data(),
@@ -128,7 +150,7 @@ void YoshidaPropagator::step(Population& population, double t_start_s, double dt
     const double h = dt_s / kLowAltitudeSubsteps;
     for (int sub = 0; sub < kLowAltitudeSubsteps; ++sub) step_arrays(low, m, t_start_s + sub * h, h, 1);
   }
-  step_arrays(arrays, n, t_start_s, dt_s, threads);
+  step_arrays(arrays, n, t_start_s, dt_s, threads, start_out);
   if (!low_.empty()) {
     const std::size_t m = low_.size();
     const double* c = low_state_.data();
@@ -141,7 +163,7 @@ void YoshidaPropagator::step(Population& population, double t_start_s, double dt
 }
 
 void YoshidaPropagator::step_arrays(const StepArrays& arrays, std::size_t n, double t_start_s, double dt_s,
-                                    int threads) const {
+                                    int threads, StateArrays* start_out) const {
   // Sub-step times: after drift c1, after drifts c1 + c2 (= dt/2), after c1 + 2 c2 (= dt - c1).
   ForceInstant f1 = model_.instant(t_start_s + kC1 * dt_s);
   ForceInstant f2 = model_.instant(t_start_s + 0.5 * dt_s);
@@ -150,10 +172,18 @@ void YoshidaPropagator::step_arrays(const StepArrays& arrays, std::size_t n, dou
   // kick's drag changes v_rel by a factor in [1/1.125^2, 1/0.875^2] (drag.hpp): inactive above ~100 km.
   const double drag_limit = kDragRateLimitPerKick / (std::abs(kW0) * dt_s);
   f1.drag_rate_limit_per_s = f2.drag_rate_limit_per_s = f3.drag_rate_limit_per_s = drag_limit;
-  if (model_.settings().atmosphere == AtmosphereModel::kDensityTable)
-    yoshida_step<AtmosphereModel::kDensityTable>(arrays, n, f1, f2, f3, dt_s, threads);
-  else
-    yoshida_step<AtmosphereModel::kExponentialFit>(arrays, n, f1, f2, f3, dt_s, threads);
+  const bool table = model_.settings().atmosphere == AtmosphereModel::kDensityTable;
+  if (start_out != nullptr) {
+    if (table)
+      yoshida_step<AtmosphereModel::kDensityTable, true>(arrays, n, f1, f2, f3, dt_s, threads, start_out);
+    else
+      yoshida_step<AtmosphereModel::kExponentialFit, true>(arrays, n, f1, f2, f3, dt_s, threads, start_out);
+  } else {
+    if (table)
+      yoshida_step<AtmosphereModel::kDensityTable, false>(arrays, n, f1, f2, f3, dt_s, threads, nullptr);
+    else
+      yoshida_step<AtmosphereModel::kExponentialFit, false>(arrays, n, f1, f2, f3, dt_s, threads, nullptr);
+  }
 }
 
 void validate_for_propagation(const Population& population) {

@@ -37,6 +37,8 @@ class YoshidaPropagator final : public Propagator {
   YoshidaPropagator(const ForceModelSettings& forces, const UtcEpoch& epoch);
 
   void step(Population& population, double t_start_s, double dt_s) override;
+  void step_keeping_start(Population& population, double t_start_s, double dt_s,
+                          StateArrays& start_out) override;
 
   // OpenMP threads for step(); 0 (default) uses OpenMP's default.
   void set_threads(int threads) { threads_ = threads; }
@@ -67,7 +69,9 @@ class YoshidaPropagator final : public Propagator {
 
  private:
   // One Yoshida step of n objects held in `arrays`.
-  void step_arrays(const StepArrays& arrays, std::size_t n, double t_start_s, double dt_s, int threads) const;
+  void step_arrays(const StepArrays& arrays, std::size_t n, double t_start_s, double dt_s, int threads,
+                   StateArrays* start_out = nullptr) const;
+  void advance(Population& population, double t_start_s, double dt_s, StateArrays* start_out);
 
   ForceModel model_;
   int threads_ = 0;

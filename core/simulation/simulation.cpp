@@ -262,8 +262,7 @@ RunSummary Simulation::run(EventSink& sink, RunControl& control) {
 
       // Integrate.
       auto t = Clock::now();
-      start_state = pop.state;
-      s.parts.propagator->step(pop, t0_s, cfg.dt_s);
+      s.parts.propagator->step_keeping_start(pop, t0_s, cfg.dt_s, start_state);
       timers.integrator_s += seconds_since(t);
 
       // Burn-up: found now, removed after detection (StepEnds stay index-aligned for the scan).

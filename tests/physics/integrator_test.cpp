@@ -149,6 +149,37 @@ TEST(Yoshida, LowPerigeeDragKeepsFourthOrder) {
   EXPECT_LT(errors[2], 10.0);  // dt 10 s (was 200 m for leo-19647 object 14524)
 }
 
+// step_keeping_start copies the start states in the same pass: the copy is the state before the step and
+// the step is the plain step's, bit for bit (a low object sub-stepped among them too).
+TEST(Yoshida, StepKeepingStartCopiesTheStartAndStepsAsUsual) {
+  Population a;
+  for (int k = 0; k < 2000; ++k) {
+    Eigen::Vector3d r, v;
+    const double perigee_m = k == 7 ? 200e3 : 450e3 + 300.0 * k;
+    testing::state_from_elements(6378137.0 + perigee_m, 0.0005 * (k % 7), 0.3 + 0.001 * k, 0.01 * k, 0.2,
+                                 0.003 * k, r, v);
+    Population one = one_object(r, v);
+    one.id[0] = 1 + k;
+    a.add(one.record(0));
+  }
+  Population b = a;
+  YoshidaPropagator plain(ForceModelSettings{}, kEpoch), keeping(ForceModelSettings{}, kEpoch);
+  plain.set_threads(2);
+  keeping.set_threads(2);
+  StateArrays start;
+  for (int s = 0; s < 20; ++s) {
+    const StateArrays before = b.state;
+    plain.step(a, s * 10.0, 10.0);
+    keeping.step_keeping_start(b, s * 10.0, 10.0, start);
+    ASSERT_EQ(start.size(), before.size());
+    EXPECT_EQ(start.x, before.x);
+    EXPECT_EQ(start.vz, before.vz);
+    EXPECT_EQ(a.state.x, b.state.x);
+    EXPECT_EQ(a.state.vy, b.state.vy);
+  }
+  EXPECT_EQ(keeping.last_substepped().size(), 1u);
+}
+
 // Objects below 300 km take four sub-steps. The choice and the result depend on the object alone: the
 // same bits alone or among 3,000 higher objects, with 1 or 2 threads, and only low objects are chosen.
 TEST(Yoshida, LowObjectsTakeSubstepsWhateverTheirCompany) {
