@@ -1,6 +1,7 @@
 #include "core/integration/burn_up.hpp"
 
 #include <cmath>
+#include <cstring>
 
 #include "core/physics/constants.hpp"
 
@@ -15,19 +16,24 @@ std::vector<BurnUp> find_burn_ups(const Population& population, double min_altit
   const double* y = s.y.data();
   const double* z = s.z.data();
   char* flag = flags.data();
-  // Flags in parallel (each depends on its object only), events collected in population order.
-#pragma omp parallel for schedule(static) if (n >= 100000)
-  for (long i = 0; i < static_cast<long>(n); ++i) {
-    const double altitude =
-        std::sqrt(x[i] * x[i] + y[i] * y[i] + z[i] * z[i]) - constants::kEarthEquatorialRadius_m;
-    flag[i] = !(altitude >= min_altitude_m);  // a NaN state also leaves
-  }
+  // Flags in parallel (each depends on its object only), events collected in population order. The
+  // test compares squared radii (no square root per object); r^2 >= (R + h)^2 is r >= R + h for r >= 0.
+  const double min_radius_m = constants::kEarthEquatorialRadius_m + min_altitude_m;
+  const double min_radius2 = min_radius_m > 0.0 ? min_radius_m * min_radius_m : 0.0;
+#pragma omp parallel for simd schedule(static) if (n >= 100000)
+  for (long i = 0; i < static_cast<long>(n); ++i)
+    flag[i] = !(x[i] * x[i] + y[i] * y[i] + z[i] * z[i] >= min_radius2);  // a NaN state also leaves
   std::vector<BurnUp> events;
-  for (std::size_t i = 0; i < n; ++i)
-    if (flag[i])
-      events.push_back(
-          {population.id[i], time_s,
-           std::sqrt(x[i] * x[i] + y[i] * y[i] + z[i] * z[i]) - constants::kEarthEquatorialRadius_m});
+  if (n == 0) return events;
+  // Burn-ups are rare: jump from flag to flag.
+  for (const char* p = flag; (p = static_cast<const char*>(std::memchr(p, 1, n - (p - flag)))) != nullptr;
+       ++p) {
+    const std::size_t i = static_cast<std::size_t>(p - flag);
+    events.push_back(
+        {population.id[i], time_s,
+         std::sqrt(x[i] * x[i] + y[i] * y[i] + z[i] * z[i]) - constants::kEarthEquatorialRadius_m});
+    if (i + 1 == n) break;
+  }
   return events;
 }
 

@@ -169,16 +169,18 @@ TEST(BadInput, StepRefusesBadStepsAndRaggedArrays) {
 TEST(BurnUp, ObjectsBelowTheMinimumAltitudeAreReportedAndFlagged) {
   Population p;
   const double re = constants::kEarthEquatorialRadius_m;
-  for (ObjectId id = 1; id <= 4; ++id) p.add(sound(id));
-  p.state.x = {re + 400e3, re + 149e3, re + 151e3, re + 100e3};
+  for (ObjectId id = 1; id <= 5; ++id) p.add(sound(id));
+  // The last object's state is broken (NaN): it leaves as well.
+  p.state.x = {re + 400e3, re + 149e3, re + 151e3, re + 100e3, std::nan("")};
   std::vector<char> flags;
   const auto events = find_burn_ups(p, 150e3, 42.0, flags);
-  ASSERT_EQ(events.size(), 2u);
+  ASSERT_EQ(events.size(), 3u);
   EXPECT_EQ(events[0].id, 2u);
   EXPECT_EQ(events[1].id, 4u);
+  EXPECT_EQ(events[2].id, 5u);
   EXPECT_EQ(events[0].time_s, 42.0);
   EXPECT_NEAR(events[0].altitude_m, 149e3, 1e-6);
-  EXPECT_EQ(flags, (std::vector<char>{0, 1, 0, 1}));
+  EXPECT_EQ(flags, (std::vector<char>{0, 1, 0, 1, 1}));
   p.remove_flagged(flags);
   EXPECT_EQ(p.id, (std::vector<ObjectId>{1, 3}));
 }
