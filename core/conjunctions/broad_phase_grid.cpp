@@ -291,10 +291,12 @@ void BroadPhaseGrid::pair_with_buckets(std::size_t k, std::size_t first_bucket, 
   auto scan = [&](std::size_t first, std::size_t last) {
     for (std::size_t m = first; m < last; ++m) {
       const SlotBox& c = slot_[m];
-      if (c.key - key_lo > span) continue;  // another cell (unsigned: below key_lo wraps high)
-      if (a.lo[0] <= c.hi[0] && c.lo[0] <= a.hi[0] && a.lo[1] <= c.hi[1] && c.lo[1] <= a.hi[1] &&
-          a.lo[2] <= c.hi[2] && c.lo[2] <= a.hi[2])
-        out.push_back(CandidatePair{a.index, c.index});
+      // One branch per record (the cell test and the six overlap tests combined without short-circuit:
+      // their outcomes are hard to predict, a branch each cost more than the comparisons).
+      const bool same_cell = c.key - key_lo <= span;  // unsigned: below key_lo wraps high
+      const bool overlap = (a.lo[0] <= c.hi[0]) & (c.lo[0] <= a.hi[0]) & (a.lo[1] <= c.hi[1]) &
+                           (c.lo[1] <= a.hi[1]) & (a.lo[2] <= c.hi[2]) & (c.lo[2] <= a.hi[2]);
+      if (same_cell & overlap) out.push_back(CandidatePair{a.index, c.index});
     }
   };
   if (first_bucket + count <= bucket_mask_ + 1) {
