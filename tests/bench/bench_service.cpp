@@ -145,12 +145,15 @@ Measured in_process(const v1::Scenario& scenario, int threads, bool checkpoints 
 
 // The same scenario through a RunManager and its gRPC server in this process, over loopback, with
 // `watchers` clients streaming WatchRun from the submission on.
-Measured through_daemon(const v1::Scenario& scenario, int threads, int watchers, int gather_ms) {
+Measured through_daemon(const v1::Scenario& scenario, int threads, int watchers, int gather_ms,
+                        int checkpoint_write_ms) {
   std::string dir = temp_dir();
   server::ManagerOptions options;
   options.db_path = dir + "/bench.db";
   options.threads_per_run = threads;
   if (gather_ms >= 0) options.relay_gather = std::chrono::milliseconds(gather_ms);
+  if (checkpoint_write_ms >= 0)
+    options.min_checkpoint_interval = std::chrono::milliseconds(checkpoint_write_ms);
   Measured result;
   {
     server::RunManager manager(options);
@@ -278,7 +281,7 @@ int bench_service(int argc, char** argv) {
   server::tune_allocator_for_runs();
   Args args(argc, argv);
   args.allow_only({"--scenario", "--objects", "--screening-km", "--checkpoint-every-steps", "--watchers",
-                   "--repeats", "--threads", "--store-events", "--relay-gather-ms"});
+                   "--repeats", "--threads", "--store-events", "--relay-gather-ms", "--checkpoint-write-ms"});
   std::string path =
       args.get("--scenario", std::string(KESSLER_DATASETS_DIR) + "/../scenarios/synthetic-small.yaml");
   const auto objects = args.get_int("--objects", 8000);                        // 0: as the scenario file says
@@ -288,7 +291,9 @@ int bench_service(int argc, char** argv) {
   const int repeats = static_cast<int>(args.get_int("--repeats", 8));
   const int threads = static_cast<int>(args.get_int("--threads", 1));  // per-core cost, as every bench
   const auto store_events = static_cast<std::uint64_t>(args.get_int("--store-events", 500000));
-  const int gather_ms = static_cast<int>(args.get_int("--relay-gather-ms", -1));  // -1: the daemon's
+  // The daemon's knobs, -1: its defaults.
+  const int gather_ms = static_cast<int>(args.get_int("--relay-gather-ms", -1));
+  const int checkpoint_write_ms = static_cast<int>(args.get_int("--checkpoint-write-ms", -1));
   if (watchers < 0 || repeats < 1 || threads < 1 || objects < 0 || screening_km < 0 ||
       checkpoint_every < -1) {
     std::cerr << "kessler-bench service: --watchers >= 0, --repeats >= 1, --threads >= 1, --objects >= 0, "
@@ -322,7 +327,7 @@ int bench_service(int argc, char** argv) {
   for (int r = 0; r < repeats; ++r) {
     // Alternate which goes first, so warm caches and load drifts fall on both sides alike.
     if (r % 2 == 0) local = in_process(scenario, threads);
-    daemon = through_daemon(scenario, threads, watchers, gather_ms);
+    daemon = through_daemon(scenario, threads, watchers, gather_ms, checkpoint_write_ms);
     if (r % 2 == 1) local = in_process(scenario, threads);
     // As `kessler run --local` runs it: no checkpoints (the daemon takes them for crash recovery).
     const Measured bare = in_process(scenario, threads, false);
@@ -368,6 +373,12 @@ int bench_service(int argc, char** argv) {
       .add("screening_km", scenario.conjunctions().screening_distance_km())
       .add("checkpoint_every_steps", static_cast<std::int64_t>(config.checkpoint_every_steps))
       .add("threads_per_run", static_cast<std::int64_t>(threads))
+      .add("relay_gather_ms", static_cast<std::int64_t>(
+                                  gather_ms >= 0 ? gather_ms : server::ManagerOptions().relay_gather.count()))
+      .add("checkpoint_write_ms",
+           static_cast<std::int64_t>(checkpoint_write_ms >= 0
+                                         ? checkpoint_write_ms
+                                         : server::ManagerOptions().min_checkpoint_interval.count()))
       .add("watchers", static_cast<std::int64_t>(watchers))
       .add("watchers_complete", static_cast<std::int64_t>(watchers_complete_min))
       .add("events", static_cast<std::int64_t>(daemon.events))
