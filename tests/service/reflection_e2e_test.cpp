@@ -323,5 +323,24 @@ TEST_F(Reflection, HealthCheckAnswersServingForTheServerAndTheApiService) {
   EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND);
 }
 
+// `kessler health`: the same check from the CLI, for scripts and container health checks.
+TEST_F(Reflection, KesslerHealthExitsZeroOnlyWhenServing) {
+  auto serving = test::cli(dir_, "health --server " + daemon_.address());
+  EXPECT_EQ(serving.exit_code, 0) << serving.err;
+  EXPECT_EQ(serving.last_line(), "SERVING");
+  auto json = test::cli(
+      dir_, "health --service kessler.v1.KesslerService --output json --server " + daemon_.address());
+  EXPECT_EQ(json.exit_code, 0) << json.err;
+  EXPECT_NE(json.out.find("\"status\": \"SERVING\""), std::string::npos) << json.out;
+  auto unknown = test::cli(dir_, "health --service no.such.Service --server " + daemon_.address());
+  EXPECT_EQ(unknown.exit_code, 1);
+  EXPECT_NE(unknown.err.find("NOT_FOUND"), std::string::npos) << unknown.err;
+  daemon_.kill9();
+  auto gone = test::cli(dir_, "health --timeout-s 2 --server " + daemon_.address());
+  EXPECT_EQ(gone.exit_code, 1);
+  EXPECT_NE(gone.err.find("UNAVAILABLE"), std::string::npos) << gone.err;
+  EXPECT_EQ(test::cli(dir_, "health --timeout-s 0").exit_code, 2);
+}
+
 }  // namespace
 }  // namespace kessler
