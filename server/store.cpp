@@ -181,8 +181,9 @@ struct Store::Pending {
   std::int64_t run_id = 0;
   std::uint64_t last_seq = 0;
   std::int64_t step = 0;
-  std::string checkpoint;
+  std::shared_ptr<const std::string> checkpoint;
   bool is_checkpoint = false;
+  bool discard = false;  // a checkpoint item that drops the run's waiting checkpoint
 };
 
 class Store::Lease {
@@ -431,6 +432,24 @@ void Store::append_events(const std::vector<std::shared_ptr<const v1::RunEvent>>
 
 void Store::append_checkpoint(std::int64_t run_id, std::uint64_t last_seq, std::int64_t step,
                               std::string bytes) {
+  append_checkpoint(run_id, last_seq, step, std::make_shared<const std::string>(std::move(bytes)));
+}
+
+void Store::discard_waiting_checkpoint(std::int64_t run_id) {
+  Pending p;
+  p.is_checkpoint = true;
+  p.discard = true;
+  p.run_id = run_id;
+  {
+    std::lock_guard lock(queue_mutex_);
+    queue_.push_back(std::move(p));
+    ++appended_;
+  }
+  queue_cv_.notify_one();
+}
+
+void Store::append_checkpoint(std::int64_t run_id, std::uint64_t last_seq, std::int64_t step,
+                              std::shared_ptr<const std::string> bytes) {
   Pending p;
   p.is_checkpoint = true;
   p.run_id = run_id;
@@ -519,6 +538,14 @@ void Store::writer_loop() {
         continue;
       }
       auto it = held.find(p.run_id);
+      if (p.discard) {
+        if (it != held.end()) {
+          held.erase(it);
+          ++done;  // the dropped checkpoint
+        }
+        ++done;  // this item
+        continue;
+      }
       if (it == held.end()) {
         held.emplace(p.run_id, std::move(p));
       } else {
@@ -557,7 +584,7 @@ void Store::write_batch(std::vector<Pending>& batch, WriterStatements& statement
   std::uint64_t written = 0;
   for (Pending& p : batch) {
     if (p.is_checkpoint) {
-      checkpoint_upsert.bind(1, p.run_id).bind(2, p.last_seq).bind(3, p.step).bind_blob(4, p.checkpoint);
+      checkpoint_upsert.bind(1, p.run_id).bind(2, p.last_seq).bind(3, p.step).bind_blob(4, *p.checkpoint);
       checkpoint_upsert.run();
       continue;
     }

@@ -81,6 +81,11 @@ class Store {
   void append_events(const std::vector<std::shared_ptr<const v1::RunEvent>>& events);
   // Stored after every event appended before it (possibly later, see min_checkpoint_interval).
   void append_checkpoint(std::int64_t run_id, std::uint64_t last_seq, std::int64_t step, std::string bytes);
+  void append_checkpoint(std::int64_t run_id, std::uint64_t last_seq, std::int64_t step,
+                         std::shared_ptr<const std::string> bytes);
+  // A run that has ended needs no checkpoint: one still waiting for its interval is dropped unwritten
+  // (the stored one stays).
+  void discard_waiting_checkpoint(std::int64_t run_id);
   // Blocks until everything appended so far is committed (held checkpoints too, or superseded).
   void flush();
   // The highest sequence number committed for a run (0: none).

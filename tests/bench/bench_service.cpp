@@ -93,7 +93,11 @@ struct Measured {
   double run_cpu_s = 0;    // CPU of the simulation's thread (build + run)
   double other_cpu_s = 0;  // CPU of every other thread of this process meanwhile
   double relay_cpu_s = 0, store_cpu_s = 0;  // daemon: of those, its relay and store writer threads
-  PhaseTimers timers;                       // the run's own (the simulation thread's wall per phase)
+  // Daemon: where the wall time outside the run went: SubmitRun to the run's start (as the store has
+  // it), the run's start to its end in the store less the simulation's own run time (build, relay
+  // drain, store flush), and from there to the last watcher's final state.
+  double to_start_s = 0, around_run_s = 0, to_watchers_s = 0;
+  PhaseTimers timers;  // the run's own (the simulation thread's wall per phase)
   std::uint64_t events = 0;
   std::string digest;
   int watchers_complete = 0;  // daemon: watchers that saw every event and then the final state
@@ -167,6 +171,8 @@ Measured through_daemon(const v1::Scenario& scenario, int threads, int watchers,
     v1::Run run;
     const auto threads0 = cpu_by_thread_name();
     const double cpu0 = process_cpu_s();
+    const double t0_unix =
+        std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
     const double t0 = now_s();
     grpc::ClientContext submit_context;
     auto status = stub->SubmitRun(&submit_context, request, &run);
@@ -228,6 +234,9 @@ Measured through_daemon(const v1::Scenario& scenario, int threads, int watchers,
     result.events = run.summary().events();
     result.digest = run.summary().events_digest();
     result.timers = from_proto(run.summary().timers());
+    result.to_start_s = run.started_unix_s() - t0_unix;
+    result.around_run_s = run.finished_unix_s() - run.started_unix_s() - result.timers.total_s;
+    result.to_watchers_s = t0_unix + result.wall_s - run.finished_unix_s();
     for (int w = 0; w < watchers; ++w)
       if (ended[static_cast<std::size_t>(w)] && counts[static_cast<std::size_t>(w)] == run.last_seq())
         ++result.watchers_complete;
@@ -346,6 +355,9 @@ int bench_service(int argc, char** argv) {
     f["daemon_other_cpu"].push_back(daemon.other_cpu_s);
     f["relay_cpu"].push_back(daemon.relay_cpu_s);
     f["store_cpu"].push_back(daemon.store_cpu_s);
+    f["to_start"].push_back(daemon.to_start_s);
+    f["around_run"].push_back(daemon.around_run_s);
+    f["to_watchers"].push_back(daemon.to_watchers_s);
     digests_equal = digests_equal && daemon.digest == local.digest && bare.digest == local.digest;
     watchers_complete_min = std::min(watchers_complete_min, daemon.watchers_complete);
     std::cout << "repeat " << r + 1 << ": in-process " << local.wall_s << " s (run " << local.timers.total_s
@@ -395,6 +407,9 @@ int bench_service(int argc, char** argv) {
       .add("daemon_run_s", med("daemon_run"))
       .add("in_process_output_s", med("local_output"))
       .add("daemon_output_s", med("daemon_output"))
+      .add("daemon_submit_to_start_s", med("to_start"))
+      .add("daemon_build_drain_flush_s", med("around_run"))
+      .add("daemon_end_to_last_watcher_s", med("to_watchers"))
       .add("in_process_checkpoint_s", med("local_checkpoint"))
       .add("daemon_checkpoint_s", med("daemon_checkpoint"))
       .add("in_process_run_cpu_s", med("local_run_cpu"))

@@ -130,7 +130,7 @@ TEST(Store, CheckpointIsStoredAfterItsEvents) {
 
 // With a minimum interval between a run's checkpoint writes, the first is written at once, later ones
 // wait; a newer one replaces a waiting one unwritten (an older one never does), and flush() writes
-// the one waiting. Events are not held back.
+// the one waiting, unless the run ended first. Events are not held back.
 TEST(Store, CheckpointsWaitForTheirIntervalAndTheNewestWaitingOneIsWritten) {
   TempDir dir;
   Store store(dir.path() + "/k.db", std::chrono::hours(1));
@@ -160,6 +160,11 @@ TEST(Store, CheckpointsWaitForTheirIntervalAndTheNewestWaitingOneIsWritten) {
   EXPECT_EQ(cp->step, 30);
   EXPECT_EQ(cp->last_seq, 3u);
   EXPECT_EQ(cp->bytes, "thirty");
+  // A run that ended drops its waiting checkpoint unwritten; the stored one stays.
+  store.append_checkpoint(id, 4, 40, "forty");
+  store.discard_waiting_checkpoint(id);
+  store.flush();
+  EXPECT_EQ(store.latest_checkpoint(id)->step, 30);
 }
 
 TEST(Store, QueriesConjunctionsWithFiltersPagesAndClosestPerPair) {
