@@ -22,8 +22,14 @@ v1::Progress progress_to_proto(const Progress& p) {
 
 }  // namespace
 
-EventRelay::EventRelay(std::int64_t run_id, EventHub& hub, Store& store, std::chrono::milliseconds gather)
-    : run_id_(run_id), hub_(hub), store_(store), gather_(gather) {
+EventRelay::EventRelay(std::int64_t run_id, EventHub& hub, Store& store, std::chrono::milliseconds gather,
+                       std::chrono::milliseconds checkpoint_interval, const RunControl* control)
+    : run_id_(run_id),
+      hub_(hub),
+      store_(store),
+      gather_(gather),
+      checkpoint_interval_(checkpoint_interval),
+      control_(control) {
   pending_.reserve(1024);
   relay_ = std::thread([this] {
     pthread_setname_np(pthread_self(), "kessler-relay");  // for top -H and profilers
@@ -60,6 +66,12 @@ void EventRelay::on_progress(std::uint64_t seq, const Progress& progress) {
 }
 
 void EventRelay::on_checkpoint(std::uint64_t last_seq, std::int64_t step, const std::string& bytes) {
+  const auto now = std::chrono::steady_clock::now();
+  const bool stops_after = control_ && control_->stop_after_checkpoint.load();
+  if (took_checkpoint_ && !stops_after && now - last_checkpoint_taken_ < checkpoint_interval_)
+    return;  // the store would hold it back until a newer one replaced it
+  took_checkpoint_ = true;
+  last_checkpoint_taken_ = now;
   Item item;
   item.kind = Item::Kind::kCheckpoint;
   item.seq = last_seq;

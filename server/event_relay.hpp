@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "core/simulation/events.hpp"
+#include "core/simulation/simulation.hpp"
 #include "server/event_hub.hpp"
 #include "server/store.hpp"
 
@@ -30,8 +31,15 @@ class EventRelay final : public EventSink {
  public:
   // `gather`: how long the relay lets events accumulate after the first one of a batch; the latency
   // it adds to a watcher's view, and what divides the number of batches (and wake-ups).
+  // `checkpoint_interval`: the store's minimum interval between a run's checkpoint writes. A
+  // checkpoint that comes sooner than this after the last one taken over would only wait in the store
+  // to be replaced by the next: it is not copied at all (the one cost a checkpoint has on the
+  // simulation's thread), unless `control` says the run stops after it. So the stored checkpoint is
+  // at most this interval plus the spacing of the run's checkpoints behind the newest taken.
   EventRelay(std::int64_t run_id, EventHub& hub, Store& store,
-             std::chrono::milliseconds gather = std::chrono::milliseconds(50));
+             std::chrono::milliseconds gather = std::chrono::milliseconds(50),
+             std::chrono::milliseconds checkpoint_interval = std::chrono::milliseconds(0),
+             const RunControl* control = nullptr);
   ~EventRelay() override;  // drain()
   EventRelay(const EventRelay&) = delete;
   EventRelay& operator=(const EventRelay&) = delete;
@@ -72,6 +80,10 @@ class EventRelay final : public EventSink {
   EventHub& hub_;
   Store& store_;
   std::chrono::milliseconds gather_;
+  std::chrono::milliseconds checkpoint_interval_;
+  const RunControl* control_;
+  std::chrono::steady_clock::time_point last_checkpoint_taken_{};  // simulation thread only
+  bool took_checkpoint_ = false;                                   // simulation thread only
 
   mutable std::mutex mutex_;
   std::condition_variable cv_;       // the relay waits here for work

@@ -299,7 +299,8 @@ void RunManager::execute(std::int64_t run_id, RunControl& control) {
     return;
   }
   // The simulation thread hands events to the relay and goes on; the relay feeds hub and store.
-  auto relay = std::make_unique<EventRelay>(run_id, *h, store_, options_.relay_gather);
+  auto relay = std::make_unique<EventRelay>(run_id, *h, store_, options_.relay_gather,
+                                            options_.min_checkpoint_interval, &control);
   RunSummary summary;
   try {
     summary = simulation->run(*relay, control);

@@ -81,6 +81,36 @@ TEST(EventRelay, HandsEventsAndCheckpointsToHubAndStoreInOrder) {
   EXPECT_EQ(checkpoint->bytes, "checkpoint bytes");
 }
 
+// Within the store's checkpoint interval, later checkpoints are not even copied (the store would
+// only hold them back to be replaced), except the one a stopping run takes last.
+TEST(EventRelay, TakesCheckpointsAtMostOncePerIntervalUnlessTheRunStopsAfterIt) {
+  TempDir dir;
+  Store store(dir.path() + "/k.db");  // writes every checkpoint it is given
+  const std::int64_t id = store.create_run(v1::Scenario(), 0, 0.0);
+  EventHub hub;
+  RunControl control;
+  {
+    EventRelay relay(id, hub, store, std::chrono::milliseconds(1), std::chrono::hours(1), &control);
+    Progress p;
+    relay.on_progress(1, p);
+    relay.on_checkpoint(1, 10, "first");
+    relay.on_progress(2, p);
+    relay.on_checkpoint(2, 20, "second");  // within the hour: not taken
+    relay.drain();
+  }
+  store.flush();
+  EXPECT_EQ(store.latest_checkpoint(id)->bytes, "first");
+  {
+    EventRelay relay(id, hub, store, std::chrono::milliseconds(1), std::chrono::hours(1), &control);
+    relay.on_checkpoint(2, 20, "resumable");
+    control.stop_after_checkpoint = true;
+    relay.on_checkpoint(3, 30, "last before stopping");
+    relay.drain();
+  }
+  store.flush();
+  EXPECT_EQ(store.latest_checkpoint(id)->bytes, "last before stopping");
+}
+
 TEST(EventHub, KeepsABoundedWindowAndTellsAReaderWhenItFellBehind) {
   EventHub hub(0, 4);
   for (std::uint64_t s = 1; s <= 10; ++s) hub.publish(event(s));
