@@ -112,6 +112,8 @@ ApiServer::ApiServer(RunManager& manager, const std::string& address, std::size_
   builder.RegisterService(&impl_->service);
   impl_->server = builder.BuildAndStart();
   if (!impl_->server || impl_->port == 0) throw std::runtime_error("cannot listen on " + address);
+  // The whole server ("") and the API by name, so probes that name the service get an answer too.
+  impl_->server->GetHealthCheckService()->SetServingStatus(v1::KesslerService::service_full_name(), true);
   impl_->server->GetHealthCheckService()->SetServingStatus(true);
 }
 

@@ -9,16 +9,29 @@ namespace kessler::server {
 EventHub::EventHub(std::uint64_t floor_seq, std::size_t capacity)
     : capacity_(std::max<std::size_t>(capacity, 1)), evicted_upto_(floor_seq), last_seq_(floor_seq) {}
 
+void EventHub::append_locked(EventPtr event) {
+  if (event->seq() <= last_seq_) return;  // a resumed run repeating what watchers already have
+  last_seq_ = event->seq();
+  window_.push_back(std::move(event));
+  if (window_.size() > capacity_) {
+    evicted_upto_ = window_.front()->seq();
+    window_.pop_front();
+  }
+}
+
 void EventHub::publish(EventPtr event) {
   {
     std::lock_guard lock(mutex_);
-    if (event->seq() <= last_seq_) return;  // a resumed run repeating what watchers already have
-    last_seq_ = event->seq();
-    window_.push_back(std::move(event));
-    if (window_.size() > capacity_) {
-      evicted_upto_ = window_.front()->seq();
-      window_.pop_front();
-    }
+    append_locked(std::move(event));
+  }
+  cv_.notify_all();
+}
+
+void EventHub::publish(const std::vector<EventPtr>& events) {
+  if (events.empty()) return;
+  {
+    std::lock_guard lock(mutex_);
+    for (const EventPtr& e : events) append_locked(e);
   }
   cv_.notify_all();
 }

@@ -28,6 +28,8 @@ class EventHub {
   // From the simulation's thread. Events must come in increasing seq, except that a resumed run may
   // repeat numbers it emitted before (those are dropped here: watchers have them).
   void publish(EventPtr event);
+  // A batch in increasing seq: one lock and one wake-up of the watchers for all of it.
+  void publish(const std::vector<EventPtr>& events);
   // The run has changed state (also wakes watchers). A terminal state closes the hub.
   void set_state(const v1::StateChange& state);
   v1::StateChange state() const;
@@ -46,6 +48,8 @@ class EventHub {
   std::uint64_t last_seq() const;
 
  private:
+  void append_locked(EventPtr event);
+
   mutable std::mutex mutex_;
   mutable std::condition_variable cv_;
   std::deque<EventPtr> window_;

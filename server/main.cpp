@@ -1,6 +1,7 @@
 // kesslerd: the Kessler daemon. Hosts simulation runs behind a gRPC API and keeps them in SQLite.
 #include <signal.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -29,6 +30,9 @@ options:
   --queue-limit N       queued runs accepted before SubmitRun answers RESOURCE_EXHAUSTED (default 1000)
   --max-message-mb N    largest request accepted, e.g. a scenario with an inline catalog (default 64)
   --datasets DIR        bundled datasets (default: the build's deploy/datasets)
+  --checkpoint-write-ms N
+                        write a run's checkpoints to the database at most every N ms; a newer one
+                        replaces one still waiting (default 1000; 0: every checkpoint as it comes)
   --port-file PATH      write the port listened on to PATH once serving (for scripts and tests)
   --help                this text
 )";
@@ -81,6 +85,10 @@ int main(int argc, char** argv) {
       max_message_mb = n;
     } else if (arg == "--datasets") {
       options.datasets_dir = value;
+    } else if (arg == "--checkpoint-write-ms") {
+      if (!parse_int(value, 0, 86400000, n))
+        return usage_error("--checkpoint-write-ms needs an integer 0..86400000");
+      options.min_checkpoint_interval = std::chrono::milliseconds(n);
     } else if (arg == "--port-file") {
       port_file = value;
     } else {
@@ -95,6 +103,7 @@ int main(int argc, char** argv) {
   sigaddset(&signals, SIGINT);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
+  tune_allocator_for_runs();
   try {
     auto parent = std::filesystem::path(options.db_path).parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent);

@@ -1,9 +1,12 @@
 #include "server/run_manager.hpp"
 
+#include <malloc.h>
+
 #include <chrono>
 #include <thread>
 
 #include "core/scenario/run_builder.hpp"
+#include "server/event_relay.hpp"
 
 namespace kessler::server {
 namespace {
@@ -19,69 +22,6 @@ void set_vector(v1::Vector3* out, const Eigen::Vector3d& v) {
   out->set_y(v.y());
   out->set_z(v.z());
 }
-
-v1::Progress progress_to_proto(const Progress& p) {
-  v1::Progress out;
-  out.set_step(p.step);
-  out.set_total_steps(p.total_steps);
-  out.set_sim_time_s(p.sim_time_s);
-  out.set_objects_alive(p.objects_alive);
-  out.set_events_so_far(p.events_so_far);
-  out.set_wall_s(p.wall_s);
-  out.set_eta_s(p.eta_s);
-  return out;
-}
-
-// The simulation's events into the run's hub (for live watchers) and the store (for everyone else).
-class RunSink final : public EventSink {
- public:
-  RunSink(std::int64_t run_id, EventHub& hub, Store& store) : run_id_(run_id), hub_(hub), store_(store) {}
-
-  void on_encounter(std::uint64_t seq, const Encounter& encounter) override {
-    auto event = make(seq);
-    *event->mutable_encounter() = to_proto(encounter);
-    event->mutable_encounter()->set_seq(seq);
-    emit(std::move(event));
-  }
-  void on_burn_up(std::uint64_t seq, const BurnUp& burn_up) override {
-    auto event = make(seq);
-    auto* b = event->mutable_burn_up();
-    b->set_id(burn_up.id);
-    b->set_time_s(burn_up.time_s);
-    b->set_altitude_m(burn_up.altitude_m);
-    emit(std::move(event));
-  }
-  void on_progress(std::uint64_t seq, const Progress& progress) override {
-    auto event = make(seq);
-    *event->mutable_progress() = progress_to_proto(progress);
-    emit(std::move(event));
-  }
-  void on_checkpoint(std::uint64_t last_seq, std::int64_t step, const std::string& bytes) override {
-    store_.append_checkpoint(run_id_, last_seq, step, bytes);
-  }
-  void on_finished(const RunSummary&) override {}
-  void on_failed(const std::string& reason) override { failure_ = reason; }
-
-  const std::string& failure() const { return failure_; }
-
- private:
-  std::shared_ptr<v1::RunEvent> make(std::uint64_t seq) {
-    auto event = std::make_shared<v1::RunEvent>();
-    event->set_seq(seq);
-    event->set_run_id(run_id_);
-    return event;
-  }
-  void emit(std::shared_ptr<v1::RunEvent> event) {
-    EventPtr shared = std::move(event);
-    store_.append_event(shared);
-    hub_.publish(std::move(shared));
-  }
-
-  std::int64_t run_id_;
-  EventHub& hub_;
-  Store& store_;
-  std::string failure_;
-};
 
 v1::StateChange state_of(const v1::Run& run) {
   v1::StateChange change;
@@ -103,6 +43,11 @@ double run_length_s(const v1::Run& run) {
 }
 
 }  // namespace
+
+void tune_allocator_for_runs() {
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 64 << 20);
+}
 
 v1::RunSummary to_proto(const RunSummary& s) {
   v1::RunSummary out;
@@ -145,7 +90,8 @@ v1::Encounter to_proto(const Encounter& e) {
   return out;
 }
 
-RunManager::RunManager(const ManagerOptions& options) : options_(options), store_(options.db_path) {
+RunManager::RunManager(const ManagerOptions& options)
+    : options_(options), store_(options.db_path, options.min_checkpoint_interval) {
   scheduler_ =
       std::make_unique<Scheduler>(options.runs_at_once, options.queue_limit,
                                   [this](std::int64_t id, RunControl& control) { execute(id, control); });
@@ -300,7 +246,8 @@ v1::RunStats RunManager::stats(const v1::GetRunStatsRequest& request) {
 
 void RunManager::finish(std::int64_t run_id, v1::RunState state, const std::string& error,
                         const v1::RunSummary* summary) {
-  store_.flush();  // every event is durable before the run reads as ended
+  store_.discard_waiting_checkpoint(run_id);  // an ended run resumes from nothing
+  store_.flush();                             // every event is durable before the run reads as ended
   store_.set_finished(run_id, state, unix_now_s(), error, summary);
   std::shared_ptr<EventHub> h;
   {
@@ -351,14 +298,20 @@ void RunManager::execute(std::int64_t run_id, RunControl& control) {
            nullptr);
     return;
   }
-  RunSink sink(run_id, *h, store_);
+  // The simulation thread hands events to the relay and goes on; the relay feeds hub and store.
+  auto relay = std::make_unique<EventRelay>(run_id, *h, store_, options_.relay_gather,
+                                            options_.min_checkpoint_interval, &control);
   RunSummary summary;
   try {
-    summary = simulation->run(sink, control);
+    summary = simulation->run(*relay, control);
   } catch (const std::exception& e) {
-    finish(run_id, v1::RUN_STATE_FAILED, sink.failure().empty() ? e.what() : sink.failure(), nullptr);
+    relay->drain();
+    relay_cpu_s_.fetch_add(relay->cpu_s());
+    finish(run_id, v1::RUN_STATE_FAILED, relay->failure().empty() ? e.what() : relay->failure(), nullptr);
     return;
   }
+  relay->drain();  // every event in the hub and queued in the store before the run ends
+  relay_cpu_s_.fetch_add(relay->cpu_s());
   if (control.stop_after_checkpoint && !control.cancel && summary.cancelled) {
     // Daemon shutdown: the run stays "running" in the store and resumes at the next start.
     store_.flush();
@@ -377,7 +330,6 @@ void RunManager::watch(const v1::WatchRunRequest& request, const WriteEvent& wri
   std::uint64_t cursor = request.after_seq();
   const bool no_progress = request.no_progress();
   constexpr std::size_t kBatch = 1000;
-  constexpr int kGatherMs = 20;
 
   v1::RunState sent_state = v1::RUN_STATE_UNSPECIFIED;
   // A terminal state is the stream's last message, after every event: the loop sends it when it ends.
@@ -457,11 +409,8 @@ void RunManager::watch(const v1::WatchRunRequest& request, const WriteEvent& wri
       return;
     }
     if (!send_state(state)) return;
+    // The relay publishes a few milliseconds of events at a time, so one wake-up brings a batch.
     h->wait(cursor, version, std::chrono::milliseconds(200));
-    // Let a step's events gather before waking the transport: one write of many events costs the
-    // daemon far less CPU (which the simulation shares) than many writes of one.
-    if (h->last_seq() > cursor && !h->closed())
-      std::this_thread::sleep_for(std::chrono::milliseconds(kGatherMs));
   }
 }
 

@@ -1,12 +1,18 @@
 #include "server/scheduler.hpp"
 
+#include <pthread.h>
+
 #include <algorithm>
 
 namespace kessler::server {
 
 Scheduler::Scheduler(int workers, std::size_t queue_limit, Work work)
     : work_(std::move(work)), queue_limit_(queue_limit) {
-  for (int i = 0; i < std::max(workers, 1); ++i) workers_.emplace_back([this] { worker_loop(); });
+  for (int i = 0; i < std::max(workers, 1); ++i)
+    workers_.emplace_back([this] {
+      pthread_setname_np(pthread_self(), "kessler-run");  // the simulation's thread, for top -H
+      worker_loop();
+    });
 }
 
 Scheduler::~Scheduler() {

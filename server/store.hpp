@@ -7,6 +7,7 @@
 // use their own connections (WAL lets readers run beside the writer).
 #pragma once
 
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -45,7 +46,11 @@ struct Page {
 class Store {
  public:
   // Opens (creating when needed) the database at `path` and brings its schema up to date.
-  explicit Store(const std::string& path);
+  // `min_checkpoint_interval`: a run's checkpoints are written at most this often; one that comes
+  // sooner waits (and a newer one replaces it unwritten) until the interval has passed, a flush()
+  // or the store's end. 0: each is written as it comes.
+  explicit Store(const std::string& path,
+                 std::chrono::milliseconds min_checkpoint_interval = std::chrono::milliseconds(0));
   ~Store();
   Store(const Store&) = delete;
   Store& operator=(const Store&) = delete;
@@ -72,9 +77,16 @@ class Store {
 
   // Events, through the writer thread. `event` must carry seq and run_id.
   void append_event(std::shared_ptr<const v1::RunEvent> event);
-  // Stored after every event appended before it.
+  // A batch, in order: one queue operation for all of it.
+  void append_events(const std::vector<std::shared_ptr<const v1::RunEvent>>& events);
+  // Stored after every event appended before it (possibly later, see min_checkpoint_interval).
   void append_checkpoint(std::int64_t run_id, std::uint64_t last_seq, std::int64_t step, std::string bytes);
-  // Blocks until everything appended so far is committed.
+  void append_checkpoint(std::int64_t run_id, std::uint64_t last_seq, std::int64_t step,
+                         std::shared_ptr<const std::string> bytes);
+  // A run that has ended needs no checkpoint: one still waiting for its interval is dropped unwritten
+  // (the stored one stays).
+  void discard_waiting_checkpoint(std::int64_t run_id);
+  // Blocks until everything appended so far is committed (held checkpoints too, or superseded).
   void flush();
   // The highest sequence number committed for a run (0: none).
   std::uint64_t max_seq(std::int64_t run_id);
@@ -93,13 +105,15 @@ class Store {
 
  private:
   struct Pending;
+  struct WriterStatements;
   void writer_loop();
-  void write_batch(std::vector<Pending>& batch);
+  void write_batch(std::vector<Pending>& batch, WriterStatements& statements);
   class Lease;  // a pooled connection for reads and run updates
   sqlite3* acquire();
   void release(sqlite3* db);
 
   std::string path_;
+  std::chrono::milliseconds min_checkpoint_interval_;
   sqlite3* writer_db_ = nullptr;  // the writer thread's connection
   std::mutex pool_mutex_;
   std::vector<sqlite3*> pool_;  // idle reader connections
@@ -111,6 +125,7 @@ class Store {
   std::deque<Pending> queue_;
   std::uint64_t appended_ = 0;
   std::uint64_t committed_ = 0;
+  int flush_waiters_ = 0;
   bool stopping_ = false;
   std::uint64_t events_written_ = 0;
   double writer_cpu_s_ = 0.0;

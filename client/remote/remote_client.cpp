@@ -1,8 +1,12 @@
 #include "client/remote/remote_client.hpp"
 
+#include <google/protobuf/io/coded_stream.h>
+#include <google/protobuf/io/zero_copy_stream_impl_lite.h>
+#include <grpcpp/generic/generic_stub.h>
 #include <grpcpp/grpcpp.h>
 
 #include <cstdlib>
+#include <future>
 
 #include "kessler/v1/service.grpc.pb.h"
 
@@ -65,6 +69,7 @@ std::string CallResult::describe() const {
 }
 
 struct RemoteClient::Impl {
+  std::shared_ptr<grpc::Channel> channel;
   std::unique_ptr<v1::KesslerService::Stub> stub;
 };
 
@@ -72,8 +77,8 @@ RemoteClient::RemoteClient(const std::string& address) : address_(address), impl
   grpc::ChannelArguments args;
   args.SetMaxReceiveMessageSize(512 << 20);
   args.SetMaxSendMessageSize(-1);
-  impl_->stub = v1::KesslerService::NewStub(
-      grpc::CreateCustomChannel(address, grpc::InsecureChannelCredentials(), args));
+  impl_->channel = grpc::CreateCustomChannel(address, grpc::InsecureChannelCredentials(), args);
+  impl_->stub = v1::KesslerService::NewStub(impl_->channel);
 }
 
 RemoteClient::~RemoteClient() = default;
@@ -121,6 +126,44 @@ CallResult RemoteClient::stats(const v1::GetRunStatsRequest& request, v1::RunSta
 }
 
 #undef KESSLER_UNARY
+
+CallResult RemoteClient::health(const std::string& service, double timeout_s, std::string& status) {
+  // The health proto's stubs are not part of the build: its two one-field messages are written and
+  // read here on the wire (HealthCheckRequest.service = 1, HealthCheckResponse.status = 1).
+  std::string request;
+  if (!service.empty()) {
+    google::protobuf::io::StringOutputStream stream(&request);
+    google::protobuf::io::CodedOutputStream out(&stream);
+    out.WriteTag((1 << 3) | 2);
+    out.WriteVarint32(static_cast<std::uint32_t>(service.size()));
+    out.WriteString(service);
+  }
+  grpc::Slice slice(request);
+  grpc::ByteBuffer in(&slice, 1), out;
+  grpc::GenericStub generic(impl_->channel);
+  grpc::ClientContext context;
+  context.set_deadline(std::chrono::system_clock::now() +
+                       std::chrono::milliseconds(static_cast<long>(timeout_s * 1000)));
+  std::promise<grpc::Status> done;
+  generic.UnaryCall(&context, "/grpc.health.v1.Health/Check", grpc::StubOptions(), &in, &out,
+                    [&](grpc::Status s) { done.set_value(std::move(s)); });
+  grpc::Status call = done.get_future().get();
+  CallResult result = result_of(call, context);
+  if (!result.ok) return result;
+  std::vector<grpc::Slice> slices;
+  std::string bytes;
+  if (out.Dump(&slices).ok())
+    for (const auto& s : slices) bytes.append(reinterpret_cast<const char*>(s.begin()), s.size());
+  google::protobuf::io::CodedInputStream reader(reinterpret_cast<const std::uint8_t*>(bytes.data()),
+                                                static_cast<int>(bytes.size()));
+  std::uint64_t value = 0;  // absent: UNKNOWN (0)
+  while (std::uint32_t tag = reader.ReadTag()) {
+    if (tag != (1 << 3) || !reader.ReadVarint64(&value)) break;
+  }
+  static const char* const kNames[] = {"UNKNOWN", "SERVING", "NOT_SERVING", "SERVICE_UNKNOWN"};
+  status = value < 4 ? kNames[value] : "UNKNOWN";
+  return result;
+}
 
 CallResult RemoteClient::watch(const v1::WatchRunRequest& request,
                                const std::function<bool(const v1::RunEvent&)>& on_event) {

@@ -38,6 +38,10 @@ class RemoteClient {
   CallResult remove(std::int64_t run_id);
   CallResult conjunctions(const v1::ListConjunctionsRequest& request, v1::ListConjunctionsResponse& out);
   CallResult stats(const v1::GetRunStatsRequest& request, v1::RunStats& out);
+  // The standard health check (grpc.health.v1.Health/Check) of `service` ("" for the whole server):
+  // `status` gets SERVING, NOT_SERVING, SERVICE_UNKNOWN or UNKNOWN. A service the daemon does not
+  // know is NOT_FOUND.
+  CallResult health(const std::string& service, double timeout_s, std::string& status);
   // Calls on_event for each event until the stream ends; on_event returning false ends it early.
   CallResult watch(const v1::WatchRunRequest& request,
                    const std::function<bool(const v1::RunEvent&)>& on_event);

@@ -1,12 +1,16 @@
-// The event hub (bounded window, behind detection, resumed runs) and the scheduler (order, limit,
-// cancel, shutdown) with a fake run in place of a simulation.
+// The event hub (bounded window, behind detection, resumed runs), the event relay (order, contents,
+// checkpoints after their events) and the scheduler (order, limit, cancel, shutdown) with a fake run
+// in place of a simulation.
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <chrono>
 #include <thread>
 
+#include "tests/service/temp_dir.hpp"
+
 #include "server/event_hub.hpp"
+#include "server/event_relay.hpp"
 #include "server/scheduler.hpp"
 #include "server/store.hpp"
 
@@ -17,6 +21,94 @@ EventPtr event(std::uint64_t seq) {
   auto e = std::make_shared<v1::RunEvent>();
   e->set_seq(seq);
   return e;
+}
+
+// What the simulation hands the relay reaches hub and store in order, in wire form, with a
+// checkpoint stored after the events before it; drain() leaves nothing behind.
+TEST(EventRelay, HandsEventsAndCheckpointsToHubAndStoreInOrder) {
+  TempDir dir;
+  Store store(dir.path() + "/k.db");
+  const std::int64_t id = store.create_run(v1::Scenario(), 0, 0.0);
+  EventHub hub(0, 100000);
+  EventRelay relay(id, hub, store, std::chrono::milliseconds(2));
+  std::uint64_t seq = 0;
+  for (int step = 0; step < 300; ++step) {
+    Encounter e;
+    e.id1 = 100 + step;
+    e.id2 = 200 + step;
+    e.tca_s = step * 10.0 + 1.5;
+    e.miss_distance_m = 42.0 + step;
+    e.kappa = 0.25;
+    e.kind = EncounterKind::kEvasion;
+    e.r1_m = Eigen::Vector3d(7e6, 1, 2);
+    e.v1_m_s = Eigen::Vector3d(3, 7.5e3, 4);
+    e.r2_m = Eigen::Vector3d(7e6 + 5, 6, 7);
+    e.v2_m_s = Eigen::Vector3d(8, 9, 7.4e3);
+    relay.on_encounter(++seq, e);
+    if (step % 7 == 0) relay.on_burn_up(++seq, BurnUp{static_cast<ObjectId>(step), step * 10.0, 149e3});
+    Progress p;
+    p.step = step + 1;
+    p.total_steps = 300;
+    relay.on_progress(++seq, p);
+    if (step == 150) relay.on_checkpoint(seq, step + 1, "checkpoint bytes");
+    if (step % 50 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(3));  // several batches
+  }
+  relay.drain();
+  auto live = hub.read_after(0, 100000);
+  ASSERT_EQ(live.events.size(), seq);
+  for (std::uint64_t i = 0; i < seq; ++i) {
+    EXPECT_EQ(live.events[i]->seq(), i + 1);
+    EXPECT_EQ(live.events[i]->run_id(), id);
+  }
+  const v1::RunEvent& first = *live.events[0];
+  ASSERT_TRUE(first.has_encounter());
+  EXPECT_EQ(first.encounter().id1(), 100u);
+  EXPECT_EQ(first.encounter().seq(), 1u);
+  EXPECT_EQ(first.encounter().kind(), v1::ENCOUNTER_KIND_EVASION);
+  EXPECT_DOUBLE_EQ(first.encounter().v2_m_s().z(), 7.4e3);
+  ASSERT_TRUE(live.events[1]->has_burn_up());
+  EXPECT_DOUBLE_EQ(live.events[1]->burn_up().altitude_m(), 149e3);
+  ASSERT_TRUE(live.events[2]->has_progress());
+  EXPECT_EQ(live.events[2]->progress().step(), 1);
+  store.flush();
+  EXPECT_EQ(store.max_seq(id), seq);
+  auto stored = store.read_events(id, 0, 100000);
+  ASSERT_EQ(stored.size(), seq);
+  EXPECT_EQ(stored.back().SerializeAsString(), live.events.back()->SerializeAsString());
+  auto checkpoint = store.latest_checkpoint(id);
+  ASSERT_TRUE(checkpoint);
+  EXPECT_EQ(checkpoint->step, 151);
+  EXPECT_EQ(checkpoint->bytes, "checkpoint bytes");
+}
+
+// Within the store's checkpoint interval, later checkpoints are not even copied (the store would
+// only hold them back to be replaced), except the one a stopping run takes last.
+TEST(EventRelay, TakesCheckpointsAtMostOncePerIntervalUnlessTheRunStopsAfterIt) {
+  TempDir dir;
+  Store store(dir.path() + "/k.db");  // writes every checkpoint it is given
+  const std::int64_t id = store.create_run(v1::Scenario(), 0, 0.0);
+  EventHub hub;
+  RunControl control;
+  {
+    EventRelay relay(id, hub, store, std::chrono::milliseconds(1), std::chrono::hours(1), &control);
+    Progress p;
+    relay.on_progress(1, p);
+    relay.on_checkpoint(1, 10, "first");
+    relay.on_progress(2, p);
+    relay.on_checkpoint(2, 20, "second");  // within the hour: not taken
+    relay.drain();
+  }
+  store.flush();
+  EXPECT_EQ(store.latest_checkpoint(id)->bytes, "first");
+  {
+    EventRelay relay(id, hub, store, std::chrono::milliseconds(1), std::chrono::hours(1), &control);
+    relay.on_checkpoint(2, 20, "resumable");
+    control.stop_after_checkpoint = true;
+    relay.on_checkpoint(3, 30, "last before stopping");
+    relay.drain();
+  }
+  store.flush();
+  EXPECT_EQ(store.latest_checkpoint(id)->bytes, "last before stopping");
 }
 
 TEST(EventHub, KeepsABoundedWindowAndTellsAReaderWhenItFellBehind) {

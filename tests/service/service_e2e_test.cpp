@@ -5,6 +5,7 @@
 #include <grpcpp/generic/generic_stub.h>
 #include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <chrono>
 #include <future>
@@ -287,25 +288,55 @@ TEST(ServiceEndToEnd, SubmitWatchListQueryAndRestartMatchAnInProcessRun) {
   EXPECT_EQ(cli(dir, "show 1 --server " + daemon->address()).exit_code, 1);
 }
 
+// The step of the run's stored checkpoint (0: none), read beside the daemon (WAL lets a reader in).
+std::int64_t stored_checkpoint_step(const std::string& db_path, std::int64_t run_id) {
+  sqlite3* db = nullptr;
+  std::int64_t step = 0;
+  if (sqlite3_open_v2(db_path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
+    sqlite3_busy_timeout(db, 1000);
+    sqlite3_stmt* stmt = nullptr;
+    if (sqlite3_prepare_v2(db, "SELECT step FROM checkpoints WHERE run_id = ?", -1, &stmt, nullptr) ==
+        SQLITE_OK) {
+      sqlite3_bind_int64(stmt, 1, run_id);
+      if (sqlite3_step(stmt) == SQLITE_ROW) step = sqlite3_column_int64(stmt, 0);
+    }
+    sqlite3_finalize(stmt);
+  }
+  sqlite3_close(db);
+  return step;
+}
+
 TEST(ServiceEndToEnd, SigkillMidRunThenRestartCompletesWithTheSameEvents) {
   TempDir dir;
-  LocalRun local = run_in_process(kTiny);
-  auto daemon = std::make_unique<Daemon>(dir.path() + "/k.db", std::vector<std::string>{"--threads", "1"});
+  // The tiny run five times as long (about a second on one thread), so that it is still running when
+  // a third is done and a checkpoint is stored, however the machine's load delays this test.
+  std::string scenario = test::read_text(kTiny);
+  const std::string duration = "duration_days: 0.04";
+  ASSERT_NE(scenario.find(duration), std::string::npos);
+  scenario.replace(scenario.find(duration), duration.size(), "duration_days: 0.2");
+  const std::string path = dir.path() + "/longer.yaml";
+  test::write_text(path, scenario);
+  LocalRun local = run_in_process(path);
+  const std::string db = dir.path() + "/k.db";
+  auto daemon = std::make_unique<Daemon>(db, std::vector<std::string>{"--threads", "1"});
   daemon->start();
   auto stub = connect(*daemon);
-  std::int64_t id = submit_file(*stub, kTiny);
-  // Wait until the run is well under way (a few checkpoints stored), then kill the daemon outright.
+  std::int64_t id = submit_file(*stub, path);
+  // Wait until the run is a third done with a checkpoint stored, then kill the daemon outright.
   auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   v1::Run run;
+  std::int64_t checkpoint_step = 0;
   do {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
     run = get_run(*stub, id);
-  } while (run.progress().step() < run.progress().total_steps() / 3 && run.state() <= v1::RUN_STATE_RUNNING &&
-           std::chrono::steady_clock::now() < deadline);
+    if (checkpoint_step == 0) checkpoint_step = stored_checkpoint_step(db, id);
+  } while ((run.progress().step() < run.progress().total_steps() / 3 || checkpoint_step == 0) &&
+           run.state() <= v1::RUN_STATE_RUNNING && std::chrono::steady_clock::now() < deadline);
   ASSERT_EQ(run.state(), v1::RUN_STATE_RUNNING) << "the run ended before it could be interrupted";
   daemon->kill9();
+  EXPECT_GT(stored_checkpoint_step(db, id), 0) << "the restart must resume from a checkpoint";
 
-  daemon = std::make_unique<Daemon>(dir.path() + "/k.db");
+  daemon = std::make_unique<Daemon>(db);
   daemon->start();
   stub = connect(*daemon);
   run = wait_until_ended(*stub, id);

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 #include <random>
+#include <thread>
 
 #include "server/store.hpp"
 #include "tests/service/temp_dir.hpp"
@@ -125,6 +126,45 @@ TEST(Store, CheckpointIsStoredAfterItsEvents) {
   store.append_checkpoint(id, 100, 10, "old");
   store.flush();
   EXPECT_EQ(store.latest_checkpoint(id)->step, 50);
+}
+
+// With a minimum interval between a run's checkpoint writes, the first is written at once, later ones
+// wait; a newer one replaces a waiting one unwritten (an older one never does), and flush() writes
+// the one waiting, unless the run ended first. Events are not held back.
+TEST(Store, CheckpointsWaitForTheirIntervalAndTheNewestWaitingOneIsWritten) {
+  TempDir dir;
+  Store store(dir.path() + "/k.db", std::chrono::hours(1));
+  std::int64_t id = store.create_run(v1::Scenario(), 0, 0.0);
+  store.append_event(progress_event(id, 1, 1, 1));
+  store.append_checkpoint(id, 1, 10, "ten");
+  // The first of the run is due at once: it is written without a flush.
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (!store.latest_checkpoint(id) && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ASSERT_TRUE(store.latest_checkpoint(id));
+  EXPECT_EQ(store.latest_checkpoint(id)->bytes, "ten");
+  store.append_event(progress_event(id, 2, 2, 1));
+  store.append_checkpoint(id, 2, 20, "twenty");
+  store.append_event(progress_event(id, 3, 3, 1));
+  store.append_checkpoint(id, 3, 30, "thirty");
+  store.append_checkpoint(id, 3, 25, "older");  // a resumed run repeating an older one
+  store.append_event(progress_event(id, 4, 4, 1));
+  // The events go in; the checkpoints wait (an hour).
+  while (store.max_seq(id) < 4 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  EXPECT_EQ(store.max_seq(id), 4u);
+  EXPECT_EQ(store.latest_checkpoint(id)->step, 10);
+  store.flush();
+  auto cp = store.latest_checkpoint(id);
+  ASSERT_TRUE(cp);
+  EXPECT_EQ(cp->step, 30);
+  EXPECT_EQ(cp->last_seq, 3u);
+  EXPECT_EQ(cp->bytes, "thirty");
+  // A run that ended drops its waiting checkpoint unwritten; the stored one stays.
+  store.append_checkpoint(id, 4, 40, "forty");
+  store.discard_waiting_checkpoint(id);
+  store.flush();
+  EXPECT_EQ(store.latest_checkpoint(id)->step, 30);
 }
 
 TEST(Store, QueriesConjunctionsWithFiltersPagesAndClosestPerPair) {
