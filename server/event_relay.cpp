@@ -6,21 +6,6 @@
 #include "server/run_manager.hpp"
 
 namespace kessler::server {
-namespace {
-
-v1::Progress progress_to_proto(const Progress& p) {
-  v1::Progress out;
-  out.set_step(p.step);
-  out.set_total_steps(p.total_steps);
-  out.set_sim_time_s(p.sim_time_s);
-  out.set_objects_alive(p.objects_alive);
-  out.set_events_so_far(p.events_so_far);
-  out.set_wall_s(p.wall_s);
-  out.set_eta_s(p.eta_s);
-  return out;
-}
-
-}  // namespace
 
 EventRelay::EventRelay(std::int64_t run_id, EventHub& hub, Store& store, std::chrono::milliseconds gather,
                        std::chrono::milliseconds checkpoint_interval, const RunControl* control)
@@ -178,7 +163,7 @@ void EventRelay::hand_over(std::vector<Item>& items) {
         break;
       }
       case Item::Kind::kProgress:
-        *event->mutable_progress() = progress_to_proto(item.progress);
+        *event->mutable_progress() = to_proto(item.progress);
         break;
       case Item::Kind::kCheckpoint:
         break;

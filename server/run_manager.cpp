@@ -74,6 +74,18 @@ v1::RunSummary to_proto(const RunSummary& s) {
   return out;
 }
 
+v1::Progress to_proto(const Progress& p) {
+  v1::Progress out;
+  out.set_step(p.step);
+  out.set_total_steps(p.total_steps);
+  out.set_sim_time_s(p.sim_time_s);
+  out.set_objects_alive(p.objects_alive);
+  out.set_events_so_far(p.events_so_far);
+  out.set_wall_s(p.wall_s);
+  out.set_eta_s(p.eta_s);
+  return out;
+}
+
 v1::Encounter to_proto(const Encounter& e) {
   v1::Encounter out;
   out.set_id1(e.id1);

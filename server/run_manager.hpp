@@ -63,6 +63,7 @@ void tune_allocator_for_runs();
 // Core results in wire form.
 v1::RunSummary to_proto(const RunSummary& summary);
 v1::Encounter to_proto(const Encounter& encounter);
+v1::Progress to_proto(const Progress& progress);
 
 class RunManager {
  public:

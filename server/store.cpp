@@ -13,23 +13,6 @@
 
 namespace kessler::server {
 
-const char* run_state_name(v1::RunState state) {
-  switch (state) {
-    case v1::RUN_STATE_QUEUED:
-      return "queued";
-    case v1::RUN_STATE_RUNNING:
-      return "running";
-    case v1::RUN_STATE_SUCCEEDED:
-      return "succeeded";
-    case v1::RUN_STATE_FAILED:
-      return "failed";
-    case v1::RUN_STATE_CANCELLED:
-      return "cancelled";
-    default:
-      return "unknown";
-  }
-}
-
 bool is_terminal(v1::RunState state) {
   return state == v1::RUN_STATE_SUCCEEDED || state == v1::RUN_STATE_FAILED ||
          state == v1::RUN_STATE_CANCELLED;

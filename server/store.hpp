@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "kessler/v1/names.hpp"
 #include "kessler/v1/service.pb.h"
 
 struct sqlite3;
@@ -132,7 +133,6 @@ class Store {
   std::thread writer_;
 };
 
-const char* run_state_name(v1::RunState state);
 bool is_terminal(v1::RunState state);
 
 }  // namespace kessler::server

@@ -166,23 +166,6 @@ std::string to_json(const google::protobuf::Message& message) {
   return out;
 }
 
-const char* state_name(v1::RunState state) {
-  switch (state) {
-    case v1::RUN_STATE_QUEUED:
-      return "queued";
-    case v1::RUN_STATE_RUNNING:
-      return "running";
-    case v1::RUN_STATE_SUCCEEDED:
-      return "succeeded";
-    case v1::RUN_STATE_FAILED:
-      return "failed";
-    case v1::RUN_STATE_CANCELLED:
-      return "cancelled";
-    default:
-      return "unknown";
-  }
-}
-
 const char* kind_name(v1::EncounterKind kind) {
   switch (kind) {
     case v1::ENCOUNTER_KIND_COLLISION:
@@ -204,7 +187,7 @@ std::string summary_json(const v1::Run& run) {
     return std::string(buf);
   };
   std::ostringstream o;
-  o << "{\"type\":\"summary\",\"run_id\":" << run.id() << ",\"state\":\"" << state_name(run.state())
+  o << "{\"type\":\"summary\",\"run_id\":" << run.id() << ",\"state\":\"" << v1::run_state_name(run.state())
     << "\",\"steps\":" << s.steps() << ",\"sim_time_s\":" << json_number(s.sim_time_s())
     << ",\"events\":" << s.events() << ",\"conjunctions\":" << s.conjunctions()
     << ",\"collisions\":" << s.collisions() << ",\"evasions\":" << s.evasions()
@@ -224,7 +207,7 @@ std::string summary_json(const v1::Run& run) {
 std::string summary_text(const v1::Run& run) {
   const v1::RunSummary& s = run.summary();
   std::ostringstream out;
-  out << "run " << run.id() << " " << state_name(run.state());
+  out << "run " << run.id() << " " << v1::run_state_name(run.state());
   if (!run.error().empty()) out << ": " << run.error();
   out << "\n";
   if (run.has_summary()) {

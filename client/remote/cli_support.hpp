@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "kessler/v1/names.hpp"
 #include "kessler/v1/service.pb.h"
 
 namespace kessler::cli {
@@ -59,7 +60,6 @@ class JsonObject {
 // A message in the proto's canonical JSON mapping, on one line.
 std::string to_json(const google::protobuf::Message& message);
 
-const char* state_name(v1::RunState state);
 const char* kind_name(v1::EncounterKind kind);
 
 // The run's summary object on one line: the keys of `kessler run --local`'s summary ("type":

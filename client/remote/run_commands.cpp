@@ -163,7 +163,7 @@ int follow_run(RemoteClient& client, std::int64_t run_id, const WatchOptions& op
       if (e.seq() > 0) cursor = e.seq();
       if (e.has_state()) {
         state = e.state().state();
-        if (!json) view.note("run " + std::to_string(run_id) + ": " + state_name(state));
+        if (!json) view.note("run " + std::to_string(run_id) + ": " + v1::run_state_name(state));
         return true;
       }
       if (json) {
@@ -326,11 +326,11 @@ int submit_main(int argc, char** argv) {
     if (w.format == OutputFormat::kJson)
       std::cout << JsonObject()
                        .add("run_id", static_cast<std::int64_t>(run.id()))
-                       .add("state", state_name(run.state()))
+                       .add("state", v1::run_state_name(run.state()))
                        .str()
                 << "\n";
     else
-      std::cout << "run " << run.id() << " " << state_name(run.state())
+      std::cout << "run " << run.id() << " " << v1::run_state_name(run.state())
                 << (run.queue_position() > 0 ? " (position " + std::to_string(run.queue_position()) + ")"
                                              : "")
                 << "\n";
@@ -396,7 +396,7 @@ int runs_main(int argc, char** argv) {
     if (s.empty()) continue;
     v1::RunState state = v1::RUN_STATE_UNSPECIFIED;
     for (int v = 1; v <= 5; ++v)
-      if (s == state_name(static_cast<v1::RunState>(v))) state = static_cast<v1::RunState>(v);
+      if (s == v1::run_state_name(static_cast<v1::RunState>(v))) state = static_cast<v1::RunState>(v);
     if (state == v1::RUN_STATE_UNSPECIFIED) return usage_error("runs", "unknown state '" + s + "'");
     request.add_states(state);
   }
@@ -423,7 +423,7 @@ int runs_main(int argc, char** argv) {
       JsonObject obj;
       obj.add("run_id", static_cast<std::int64_t>(runs[i].id()))
           .add("name", runs[i].name())
-          .add("state", state_name(runs[i].state()))
+          .add("state", v1::run_state_name(runs[i].state()))
           .add("created", unix_time_text(runs[i].created_unix_s()))
           .add("started", unix_time_text(runs[i].started_unix_s()))
           .add("finished", unix_time_text(runs[i].finished_unix_s()))
@@ -439,9 +439,10 @@ int runs_main(int argc, char** argv) {
   for (const auto& run : runs) {
     const auto& s = run.summary();
     bool ended = run.has_summary();
-    rows.push_back({std::to_string(run.id()), run.name().empty() ? "-" : run.name(), state_name(run.state()),
-                    unix_time_text(run.created_unix_s()), unix_time_text(run.finished_unix_s()),
-                    ended ? std::to_string(s.events()) : "-", ended ? std::to_string(s.conjunctions()) : "-",
+    rows.push_back({std::to_string(run.id()), run.name().empty() ? "-" : run.name(),
+                    v1::run_state_name(run.state()), unix_time_text(run.created_unix_s()),
+                    unix_time_text(run.finished_unix_s()), ended ? std::to_string(s.events()) : "-",
+                    ended ? std::to_string(s.conjunctions()) : "-",
                     ended ? std::to_string(s.collisions()) : "-"});
   }
   if (*format == OutputFormat::kCsv) {
@@ -518,7 +519,7 @@ int show_main(int argc, char** argv) {
     return kExitOk;
   }
   std::cout << "run " << run.id() << (run.name().empty() ? "" : " (" + run.name() + ")") << ": "
-            << state_name(run.state()) << "\n";
+            << v1::run_state_name(run.state()) << "\n";
   if (!run.error().empty()) std::cout << "  error     " << run.error() << "\n";
   std::cout << "  created   " << unix_time_text(run.created_unix_s()) << "\n"
             << "  started   " << unix_time_text(run.started_unix_s()) << "\n"
@@ -598,7 +599,8 @@ int cancel_main(int argc, char** argv) {
     return r.exit_code();
   }
   if (*format == OutputFormat::kJson)
-    std::cout << JsonObject().add("run_id", run_id).add("state", state_name(run.state())).str() << "\n";
+    std::cout << JsonObject().add("run_id", run_id).add("state", v1::run_state_name(run.state())).str()
+              << "\n";
   else if (run.state() == v1::RUN_STATE_CANCELLED)
     std::cout << "run " << run_id << " cancelled\n";
   else

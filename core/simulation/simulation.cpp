@@ -268,7 +268,6 @@ RunSummary Simulation::run(EventSink& sink, RunControl& control) {
       // Burn-up: found now, removed after detection (StepEnds stay index-aligned for the scan).
       t = Clock::now();
       std::vector<BurnUp> burned;
-      flags.assign(pop.size(), 0);
       if (s.parts.find_burn_ups) {
         burned = s.parts.find_burn_ups(pop, cfg.burn_up_altitude_m, t1_s, flags);
         std::sort(burned.begin(), burned.end(), [](const BurnUp& a, const BurnUp& b) { return a.id < b.id; });

@@ -25,7 +25,8 @@ class EncounterScanner {
   virtual double last_grid_s() const { return 0.0; }
 };
 
-// The objects below min_altitude_m and their removal flags (the signature of find_burn_ups).
+// The objects below min_altitude_m and their removal flags, sized to the population by the finder (the
+// signature of find_burn_ups).
 using BurnUpFinder = std::function<std::vector<BurnUp>(const Population&, double min_altitude_m,
                                                        double time_s, std::vector<char>& flags)>;
 
