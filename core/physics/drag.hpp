@@ -7,7 +7,7 @@
 //
 // drag_flow() is drag alone over a time h at a fixed position, solved exactly: the propagator's kicks
 // use it (half before and half after the velocity-independent kick) so that each kick, and hence the
-// whole Yoshida step, stays time-symmetric with drag (yoshida_propagator.hpp).
+// whole Yoshida step, stays time-symmetric with drag (symplectic_propagator.hpp).
 #pragma once
 
 #include <cmath>

@@ -5,7 +5,7 @@
 #include <exception>
 
 #include "core/conjunctions/detector.hpp"
-#include "core/integration/yoshida_propagator.hpp"
+#include "core/integration/symplectic_propagator.hpp"
 #include "core/population/bundled_datasets.hpp"
 #include "core/population/leo19647.hpp"
 #include "core/population/state_table.hpp"
@@ -138,7 +138,8 @@ std::optional<FieldError> make_parts(const v1::Scenario& scenario, const Simulat
       return FieldError{"population", e.what()};
     }
   } else {
-    auto propagator = std::make_unique<YoshidaPropagator>(config.force_model, config.start_epoch);
+    auto propagator =
+        std::make_unique<SymplecticPropagator>(config.force_model, config.start_epoch, config.integrator);
     propagator->set_threads(config.threads);
     parts.propagator = std::move(propagator);
   }

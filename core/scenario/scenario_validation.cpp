@@ -188,6 +188,7 @@ SimulationConfig to_simulation_config(const v1::Scenario& s, int threads) {
   c.start_epoch = start_of(s);
   c.duration_s = duration_s_of(s);
   c.dt_s = s.has_dt_s() ? s.dt_s() : d::kDtS;
+  c.integrator = s.integrator() == v1::INTEGRATOR_YOSHIDA4 ? Integrator::kYoshida4 : Integrator::kBlanesMoan4;
   const auto& f = s.force_model();
   c.force_model.kepler = f.has_kepler() ? f.kepler() : true;
   c.force_model.j2 = f.has_j2() ? f.j2() : true;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/conjunctions/encounter.hpp"
+#include "core/integration/composition.hpp"
 #include "core/integration/propagator.hpp"
 #include "core/physics/force_model_settings.hpp"
 #include "core/population/population.hpp"
@@ -21,7 +22,9 @@ namespace kessler {
 struct SimulationConfig {
   UtcEpoch start_epoch = UtcEpoch::from_calendar(2022, 1, 1, 0, 0, 0.0);
   double duration_s = 86400.0;
-  double dt_s = 10.0;
+  double dt_s = 30.0;
+  // The numerical propagator's composition (composition.hpp).
+  Integrator integrator = Integrator::kBlanesMoan4;
   ForceModelSettings force_model;
   bool conjunctions_enabled = true;
   ConjunctionSettings conjunctions;

@@ -1,8 +1,8 @@
-// kessler-bench conjunctions: propagation (Yoshida, full force model) plus conjunction detection on the
-// leo-19647 population (the first N objects; beyond 19,647, copies with positions scaled by
-// 1 + 1e-6 copy); objects below 150 km are removed after each step's detection, as in the simulation.
-// Each step's detection runs --repeats times; the median of the repeats' totals is reported
-// (detection time only, x threads, per object and step).
+// kessler-bench conjunctions: propagation (default integrator, full force model) plus conjunction detection
+// on the leo-19647 population (the first N objects; beyond 19,647, copies with positions scaled by 1 + 1e-6
+// copy); objects below 150 km are removed after each step's detection, as in the simulation. Each step's
+// detection runs --repeats times; the median of the repeats' totals is reported (detection time only, x
+// threads, per object and step).
 #include <omp.h>
 
 #include <time.h>
@@ -13,7 +13,7 @@
 
 #include "core/conjunctions/detector.hpp"
 #include "core/integration/burn_up.hpp"
-#include "core/integration/yoshida_propagator.hpp"
+#include "core/integration/symplectic_propagator.hpp"
 #include "core/population/leo19647.hpp"
 #include "tests/bench/bench.hpp"
 
@@ -60,7 +60,7 @@ int run(int argc, char** argv) {
       population.status[i] = ObjectStatus::kActive;
 
   omp_set_num_threads(threads);
-  YoshidaPropagator propagator(ForceModelSettings{}, leo19647_epoch());
+  SymplecticPropagator propagator(ForceModelSettings{}, leo19647_epoch());
   propagator.set_threads(threads);
   // The simulation's order: propagate, detect on the step's two ends, then remove burn-ups (150 km).
   // Detection runs --repeats times on each step (the first one's events are kept); each repeat's time
@@ -144,7 +144,7 @@ int run(int argc, char** argv) {
 }  // namespace
 
 KESSLER_BENCH("conjunctions",
-              "Yoshida propagation + conjunction detection on leo-19647: --objects N --steps S --threads T "
+              "propagation + conjunction detection on leo-19647: --objects N --steps S --threads T "
               "[--kappa K | --screen-km D] [--dt SECONDS] [--repeats R] [--narrow hermite|linear]",
               run);
 

@@ -1,5 +1,7 @@
-// kessler-bench run: the whole simulation in-process through the real Simulation (Yoshida propagator,
+// kessler-bench run: the whole simulation in-process through the real Simulation (symplectic propagator,
 // burn-up, conjunction detection, event assembly) with a counting sink (no I/O unless --events-out).
+// The step and integrator default to the scenario defaults (30 s, blanes_moan4); --dt and --integrator
+// yoshida4 give the paper's.
 //
 //   leo-19647: the dataset with J2, C22/S22 and drag under the dataset's density fit, SRP off (the
 //              physics of cascade's published benchmark); --objects N takes the first N objects.
@@ -23,7 +25,7 @@
 #include <utility>
 
 #include "core/conjunctions/detector.hpp"
-#include "core/integration/yoshida_propagator.hpp"
+#include "core/integration/symplectic_propagator.hpp"
 #include "core/population/bundled_datasets.hpp"
 #include "core/population/ingest.hpp"
 #include "core/population/leo19647.hpp"
@@ -38,7 +40,7 @@ namespace {
 // The default step. The step-independence check decides what may go here (tests/speed, and the one-day
 // leo-19647 check of the README's performance section): it fails for a few low-perigee objects with
 // drag already between 10 and 5 s, so no larger default is allowed.
-constexpr double kDefaultDt_s = 10.0;
+const double kDefaultDt_s = SimulationConfig{}.dt_s;
 
 // Resident set size now [bytes], from /proc/self/statm (0 where unavailable).
 std::int64_t current_rss_bytes() {
@@ -131,7 +133,7 @@ Population first_n(Population all, std::size_t n) {
 int run(int argc, char** argv) {
   Args args(argc, argv);
   args.allow_only({"--dataset", "--objects", "--days", "--threads", "--kappa", "--screen-km", "--dt",
-                   "--events-out", "--seed", "--no-detection", "--narrow"});
+                   "--events-out", "--seed", "--no-detection", "--narrow", "--integrator"});
   const std::string dataset = args.get("--dataset", "leo-19647");
   const double days = args.get_double("--days", 1.0);
   const int threads = static_cast<int>(args.get_int("--threads", 1));
@@ -139,6 +141,8 @@ int run(int argc, char** argv) {
   const std::int64_t objects_wanted = args.get_int("--objects", dataset == "synthetic" ? 20000 : 0);
   const auto seed = static_cast<std::uint64_t>(args.get_int("--seed", 1));
   const std::string narrow = args.get("--narrow", "hermite");
+  const std::string integrator =
+      args.get("--integrator", std::string(integrator_name(SimulationConfig{}.integrator)));
   if (dataset != "leo-19647" && dataset != "paper" && dataset != "synthetic") {
     std::cerr << "kessler-bench run: --dataset is leo-19647, paper or synthetic, got '" << dataset << "'\n";
     return 2;
@@ -151,6 +155,10 @@ int run(int argc, char** argv) {
     std::cerr << "kessler-bench run: give --kappa or --screen-km, not both\n";
     return 2;
   }
+  if (integrator != "yoshida4" && integrator != "blanes_moan4") {
+    std::cerr << "kessler-bench run: --integrator is yoshida4 or blanes_moan4\n";
+    return 2;
+  }
   if (narrow != "hermite" && narrow != "linear") {
     std::cerr << "kessler-bench run: --narrow is hermite or linear\n";
     return 2;
@@ -159,6 +167,7 @@ int run(int argc, char** argv) {
   SimulationConfig config;
   config.duration_s = days * 86400.0;
   config.dt_s = dt;
+  config.integrator = integrator == "yoshida4" ? Integrator::kYoshida4 : Integrator::kBlanesMoan4;
   config.threads = threads;
   config.seed = seed;
   config.checkpoint_every_steps = 0;
@@ -228,7 +237,8 @@ int run(int argc, char** argv) {
   }
 
   omp_set_num_threads(threads);
-  auto propagator = std::make_unique<YoshidaPropagator>(config.force_model, config.start_epoch);
+  auto propagator =
+      std::make_unique<SymplecticPropagator>(config.force_model, config.start_epoch, config.integrator);
   propagator->set_threads(threads);
   RunSummary summary;
   CountingSink sink(events_out);
@@ -278,6 +288,7 @@ int run(int argc, char** argv) {
       .add("objects", static_cast<std::int64_t>(objects))
       .add("days", sim_days)
       .add("dt_s", dt)
+      .add("integrator", integrator)
       .add("steps", summary.steps)
       .add("threads", static_cast<std::int64_t>(threads))
       .add("kappa_max", config.conjunctions.screening_distance_m > 0 ? 0.0 : config.conjunctions.kappa_max)
@@ -320,7 +331,7 @@ int run(int argc, char** argv) {
 KESSLER_BENCH("run",
               "the whole simulation: --dataset leo-19647|paper|synthetic [--objects N] --days D --threads T "
               "[--kappa K | --screen-km S] [--dt SECONDS] [--events-out FILE] [--no-detection] "
-              "[--narrow hermite|linear] [--seed S]",
+              "[--narrow hermite|linear] [--seed S] [--integrator yoshida4|blanes_moan4]",
               run);
 
 }  // namespace kessler::bench

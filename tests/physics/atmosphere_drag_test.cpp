@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "core/integration/burn_up.hpp"
-#include "core/integration/yoshida_propagator.hpp"
+#include "core/integration/symplectic_propagator.hpp"
 #include "core/physics/atmosphere.hpp"
 #include "core/physics/deterministic_exp.hpp"
 #include "tests/physics/two_body.hpp"
@@ -123,7 +123,7 @@ Population circular(double altitude_m, const std::vector<double>& drag_area_to_m
 
 TEST(Drag, CircularOrbitAt300KmDecaysEveryDayAndReEnters) {
   ForceModelSettings full;  // every term, density table
-  YoshidaPropagator propagator(full, kEpoch);
+  SymplecticPropagator propagator(full, kEpoch);
   Population p = circular(300e3, {0.05});
   const double dt = 10.0;
   const long steps_per_day = 8640;
@@ -157,7 +157,7 @@ TEST(Drag, CircularOrbitAt300KmDecaysEveryDayAndReEnters) {
 
 TEST(Drag, HigherBallisticCoefficientDecaysFaster) {
   ForceModelSettings full;
-  YoshidaPropagator propagator(full, kEpoch);
+  SymplecticPropagator propagator(full, kEpoch);
   // Cd A/m = 2 B* / rho0: B* = 1e-4 and 5e-4 per Earth radius; a drag-free twin shares every other
   // perturbation, so semi-major axis differences to it isolate drag.
   const double low = 2 * 1e-4 / constants::kBstarRho0_kg_m2_per_er;

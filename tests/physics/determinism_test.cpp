@@ -4,7 +4,7 @@
 #include <cstring>
 
 #include "core/integration/burn_up.hpp"
-#include "core/integration/yoshida_propagator.hpp"
+#include "core/integration/symplectic_propagator.hpp"
 #include "core/physics/gravity.hpp"
 #include "core/population/leo19647.hpp"
 
@@ -23,7 +23,7 @@ bool bitwise_equal(const std::vector<double>& a, const std::vector<double>& b) {
 }
 
 void propagate(Population& p, int threads, int steps) {
-  YoshidaPropagator propagator(ForceModelSettings{}, leo19647_epoch());
+  SymplecticPropagator propagator(ForceModelSettings{}, leo19647_epoch());
   propagator.set_threads(threads);
   for (int s = 0; s < steps; ++s) propagator.step(p, s * 10.0, 10.0);
 }
@@ -44,7 +44,7 @@ TEST(Leo19647Propagation, WholePopulationForAnHourWithBurnUps) {
   // As the simulation runs it: step, then remove objects below 150 km.
   Population p = first_objects(kLeo19647Objects);
   const Population start = p;
-  YoshidaPropagator propagator(ForceModelSettings{}, leo19647_epoch());
+  SymplecticPropagator propagator(ForceModelSettings{}, leo19647_epoch());
   propagator.set_threads(1);  // threads are another test's subject; keep this one quick on a busy machine
   std::vector<char> flags;
   std::size_t burnt = 0;
@@ -83,7 +83,7 @@ TEST(Leo19647Propagation, DeepAtmosphereStaysBoundedWithoutBurnUp) {
   r.velocity_m_s = Eigen::Vector3d(0, 7800, 0);
   r.drag_area_to_mass_m2_kg = 1.0;
   p.add(r);
-  YoshidaPropagator propagator(ForceModelSettings{}, leo19647_epoch());
+  SymplecticPropagator propagator(ForceModelSettings{}, leo19647_epoch());
   for (int s = 0; s < 30; ++s) {
     propagator.step(p, s * 10.0, 10.0);
     ASSERT_TRUE(p.state.velocity(0).allFinite());
@@ -105,29 +105,51 @@ TEST(Determinism, AnObjectAloneGivesTheSameBitsAsInsideTheVectorisedLoop) {
   }
 }
 
-TEST(Determinism, ForceModelKickEqualsThePropagatorsKernel) {
-  // One Yoshida step by hand with ForceModel::kick reproduces the propagator's bits (objects with drag).
+// One step by hand with ForceModel::kick, drift by drift and kick by kick from the composition's table,
+// reproduces the propagator's vectorised kernel bit for bit (objects with drag), for both compositions.
+void expect_kernel_is_the_composition(Integrator integrator) {
   const Population p0 = first_objects(3);
   Population p = p0;
-  YoshidaPropagator propagator(ForceModelSettings{}, leo19647_epoch());
-  propagator.step(p, 100.0, 10.0);
+  SymplecticPropagator propagator(ForceModelSettings{}, leo19647_epoch(), integrator);
+  const double t0 = 100.0, dt = 10.0;
+  propagator.step(p, t0, dt);
   const ForceModel& model = propagator.force_model();
-  const double dt = 10.0, c1 = YoshidaPropagator::kC1 * dt, c2 = YoshidaPropagator::kC2 * dt;
-  const double d1 = YoshidaPropagator::kD1 * dt, d2 = YoshidaPropagator::kD2 * dt;
+  const Composition& c = composition_of(integrator);
   for (std::size_t i = 0; i < 3; ++i) {
     Eigen::Vector3d r = p0.state.position(i), v = p0.state.velocity(i);
     const ObjectForceProperties props{p0.drag_area_to_mass_m2_kg[i], p0.srp_area_to_mass_m2_kg[i]};
     EXPECT_GT(props.drag_area_to_mass_m2_kg, 0.0);
-    r += c1 * v;
-    v = model.kick(r, v, 100.0 + YoshidaPropagator::kC1 * dt, d1, props);
-    r += c2 * v;
-    v = model.kick(r, v, 100.0 + 0.5 * dt, d2, props);
-    r += c2 * v;
-    v = model.kick(r, v, 100.0 + (YoshidaPropagator::kC1 + 2 * YoshidaPropagator::kC2) * dt, d1, props);
-    r += c1 * v;
+    for (std::size_t k = 0; k < static_cast<std::size_t>(c.kicks); ++k) {
+      r += (c.drift[k] * dt) * v;
+      v = model.kick(r, v, t0 + c.kick_time[k] * dt, c.kick[k] * dt, props);
+    }
+    r += (c.drift[static_cast<std::size_t>(c.kicks)] * dt) * v;
     EXPECT_EQ(r, p.state.position(i));
     EXPECT_EQ(v, p.state.velocity(i));
   }
+}
+
+TEST(Determinism, ForceModelKickEqualsThePropagatorsKernel) {
+  expect_kernel_is_the_composition(Integrator::kYoshida4);
+  expect_kernel_is_the_composition(Integrator::kBlanesMoan4);
+}
+
+TEST(Determinism, YoshidasTableIsYoshidasScheme) {
+  // The table's kick instants are the sums of the drifts before them, and Yoshida's are c1, dt/2, 1 - c1.
+  for (const Composition* c : {&composition::kYoshida4, &composition::kBlanesMoan4}) {
+    double elapsed = 0.0, kicks = 0.0;
+    for (std::size_t k = 0; k < static_cast<std::size_t>(c->kicks); ++k) {
+      elapsed += c->drift[k];
+      EXPECT_NEAR(c->kick_time[k], elapsed, 1e-15);
+      kicks += c->kick[k];
+    }
+    EXPECT_NEAR(elapsed + c->drift[static_cast<std::size_t>(c->kicks)], 1.0, 1e-15);
+    EXPECT_NEAR(kicks, 1.0, 1e-15);
+  }
+  EXPECT_EQ(composition::kYoshida4.kick_time[0], SymplecticPropagator::kC1);
+  EXPECT_EQ(composition::kYoshida4.kick_time[1], 0.5);
+  EXPECT_EQ(composition::kYoshida4.kick_time[2], SymplecticPropagator::kC1 + 2 * SymplecticPropagator::kC2);
+  EXPECT_EQ(composition::kYoshida4.kick[1], SymplecticPropagator::kD2);
 }
 
 TEST(Determinism, KickWithoutDragIsTheAccelerationKick) {
@@ -140,7 +162,7 @@ TEST(Determinism, KickWithoutDragIsTheAccelerationKick) {
   for (std::size_t i = 0; i < 3; ++i) {
     const ObjectForceProperties props{p0.drag_area_to_mass_m2_kg[i], p0.srp_area_to_mass_m2_kg[i]};
     const Eigen::Vector3d r = p0.state.position(i), v = p0.state.velocity(i);
-    const double h = YoshidaPropagator::kD2 * 10.0;
+    const double h = SymplecticPropagator::kD2 * 10.0;
     EXPECT_EQ(model.kick(r, v, 50.0, h, props), (v + h * model.acceleration(r, v, 50.0, props)).eval());
   }
 }

@@ -1,12 +1,12 @@
-// The Yoshida integrator against analytic solutions: two-body order of convergence, long-term energy
-// and angular momentum, and the J2 secular nodal regression.
+// The symplectic compositions (Yoshida, Blanes-Moan) against analytic solutions: two-body order of
+// convergence, long-term energy and angular momentum, and the J2 secular nodal regression.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <numbers>
 
-#include "core/integration/yoshida_propagator.hpp"
+#include "core/integration/symplectic_propagator.hpp"
 #include "core/physics/drag.hpp"
 #include "core/physics/gravity.hpp"
 #include "tests/physics/two_body.hpp"
@@ -42,38 +42,10 @@ const UtcEpoch kEpoch = UtcEpoch::from_calendar(2022, 3, 1, 0, 0, 0);
 
 TEST(Yoshida, CoefficientsAreYoshidasFourthOrderSet) {
   const double cbrt2 = std::cbrt(2.0);
-  EXPECT_NEAR(YoshidaPropagator::kW1, 1.0 / (2.0 - cbrt2), 1e-15);
-  EXPECT_NEAR(YoshidaPropagator::kW0, -cbrt2 / (2.0 - cbrt2), 1e-15);
-  EXPECT_NEAR(2 * YoshidaPropagator::kC1 + 2 * YoshidaPropagator::kC2, 1.0, 1e-15);
-  EXPECT_NEAR(2 * YoshidaPropagator::kD1 + YoshidaPropagator::kD2, 1.0, 1e-15);
-}
-
-TEST(Yoshida, KeplerErrorFallsWithFourthOrder) {
-  Eigen::Vector3d r0, v0;
-  testing::state_from_elements(7500e3, 0.05, 51.6 * kDeg, 0.3, 1.1, 0.2, r0, v0);
-  const Eigen::Vector3d exact = testing::kepler_position(r0, v0, 86400.0);
-  YoshidaPropagator propagator(only(false), kEpoch);
-  std::vector<double> log_dt, log_err;
-  for (double dt : {5.0, 10.0, 20.0, 40.0}) {
-    Population p = one_object(r0, v0);
-    const int steps = static_cast<int>(86400.0 / dt);
-    for (int s = 0; s < steps; ++s) propagator.step(p, s * dt, dt);
-    const double err = (p.state.position(0) - exact).norm();
-    log_dt.push_back(std::log(dt));
-    log_err.push_back(std::log(err));
-    RecordProperty("error_m_dt_" + std::to_string(static_cast<int>(dt)), std::to_string(err));
-    std::printf("dt %4.0f s: position error after one day %.3e m\n", dt, err);
-  }
-  // Least-squares slope of log(error) against log(dt).
-  double mx = 0, my = 0;
-  for (std::size_t i = 0; i < log_dt.size(); ++i) mx += log_dt[i] / 4, my += log_err[i] / 4;
-  double sxy = 0, sxx = 0;
-  for (std::size_t i = 0; i < log_dt.size(); ++i)
-    sxy += (log_dt[i] - mx) * (log_err[i] - my), sxx += (log_dt[i] - mx) * (log_dt[i] - mx);
-  const double slope = sxy / sxx;
-  std::printf("fitted order %.3f\n", slope);
-  EXPECT_GE(slope, 3.7);
-  EXPECT_LE(slope, 4.3);
+  EXPECT_NEAR(SymplecticPropagator::kW1, 1.0 / (2.0 - cbrt2), 1e-15);
+  EXPECT_NEAR(SymplecticPropagator::kW0, -cbrt2 / (2.0 - cbrt2), 1e-15);
+  EXPECT_NEAR(2 * SymplecticPropagator::kC1 + 2 * SymplecticPropagator::kC2, 1.0, 1e-15);
+  EXPECT_NEAR(2 * SymplecticPropagator::kD1 + SymplecticPropagator::kD2, 1.0, 1e-15);
 }
 
 double fitted_slope(const std::vector<double>& dts, const std::vector<double>& errors) {
@@ -89,15 +61,69 @@ double fitted_slope(const std::vector<double>& dts, const std::vector<double>& e
   return sxy / sxx;
 }
 
+// dts: steps where the 4th-order term dominates (Blanes-Moan's error is ~10^4 times smaller, so its
+// range starts higher, above rounding).
+void check_kepler_order(Integrator integrator, const std::vector<double>& dts) {
+  Eigen::Vector3d r0, v0;
+  testing::state_from_elements(7500e3, 0.05, 51.6 * kDeg, 0.3, 1.1, 0.2, r0, v0);
+  const Eigen::Vector3d exact = testing::kepler_position(r0, v0, 86400.0);
+  SymplecticPropagator propagator(only(false), kEpoch, integrator);
+  std::vector<double> errors;
+  for (double dt : dts) {
+    Population p = one_object(r0, v0);
+    const int steps = static_cast<int>(std::lround(86400.0 / dt));
+    for (int s = 0; s < steps; ++s) propagator.step(p, s * dt, dt);
+    errors.push_back((p.state.position(0) - exact).norm());
+    std::printf("%s dt %4.0f s: position error after one day %.3e m\n", integrator_name(integrator).data(),
+                dt, errors.back());
+  }
+  const double slope = fitted_slope(dts, errors);
+  std::printf("fitted order %.3f\n", slope);
+  EXPECT_GE(slope, 3.7);
+  EXPECT_LE(slope, 4.3);
+}
+
+TEST(Yoshida, KeplerErrorFallsWithFourthOrder) {
+  check_kepler_order(Integrator::kYoshida4, {5, 10, 20, 40});
+}
+TEST(BlanesMoan, KeplerErrorFallsWithFourthOrder) {
+  check_kepler_order(Integrator::kBlanesMoan4, {10, 20, 40, 80});
+}
+
+// The orbital phase error that decides whether conjunctions depend on the step: a circular 540 km orbit
+// (as leo-19647 object 16248, whose 7 m at dt = 10 s moved one miss distance by 5.7 m between dt 10
+// and 5 s) after 22 h, against the analytic two-body solution. Yoshida at 10 s against Blanes-Moan at
+// 30 s, which costs 7/9 of the force evaluations.
+TEST(BlanesMoan, ThirtySecondStepsBeatYoshidasTenByTwoOrders) {
+  Eigen::Vector3d r0, v0;
+  testing::state_from_elements(6378137.0 + 540e3, 0.0, 0.9, 0.3, 1.1, 0.2, r0, v0);
+  const double span_s = 22 * 3600.0;
+  const Eigen::Vector3d exact = testing::kepler_position(r0, v0, span_s);
+  auto error_after = [&](Integrator integrator, double dt) {
+    SymplecticPropagator propagator(only(false), kEpoch, integrator);
+    Population p = one_object(r0, v0);
+    const int steps = static_cast<int>(std::lround(span_s / dt));
+    for (int s = 0; s < steps; ++s) propagator.step(p, s * dt, dt);
+    return (p.state.position(0) - exact).norm();
+  };
+  const double yoshida_10 = error_after(Integrator::kYoshida4, 10.0);
+  const double blanes_moan_30 = error_after(Integrator::kBlanesMoan4, 30.0);
+  std::printf("circular 540 km, 22 h: yoshida4 at 10 s %.3f m, blanes_moan4 at 30 s %.4f m\n", yoshida_10,
+              blanes_moan_30);
+  EXPECT_GT(yoshida_10, 5.0);  // the error the step-independence check tripped on
+  EXPECT_LT(blanes_moan_30, 0.1);
+  EXPECT_LT(blanes_moan_30 * 50.0, yoshida_10);
+}
+
 // The full gravity field (J2 and the rotating C22/S22) keeps the order: self-convergence against a 0.5 s
 // solution (the analytic two-body check above is the reference for the integrator itself). The sub-step
 // times are pinned separately (Determinism.ForceModelAccelerationEqualsThePropagatorsKernel).
-TEST(Yoshida, TimeDependentFieldKeepsFourthOrder) {
+void check_time_dependent_field_order(Integrator integrator, const std::vector<double>& dts) {
   ForceModelSettings gravity_field;
   gravity_field.drag = gravity_field.srp = false;
   Eigen::Vector3d r0, v0;
   testing::state_from_elements(6900e3, 0.01, 51.6 * kDeg, 0.3, 1.1, 0.2, r0, v0);
-  YoshidaPropagator propagator(gravity_field, kEpoch);
+  SymplecticPropagator propagator(gravity_field, kEpoch, integrator);
   auto run = [&](double dt) {
     Population p = one_object(r0, v0);
     const int steps = static_cast<int>(std::lround(21600.0 / dt));
@@ -105,24 +131,32 @@ TEST(Yoshida, TimeDependentFieldKeepsFourthOrder) {
     return p.state.position(0);
   };
   const Eigen::Vector3d reference = run(0.5);
-  std::vector<double> dts{10.0, 20.0, 40.0, 60.0}, errors;
+  std::vector<double> errors;
   for (double dt : dts) errors.push_back((run(dt) - reference).norm());
   const double slope = fitted_slope(dts, errors);
-  std::printf("J2 + C22/S22, 6 h: errors %.2e %.2e %.2e %.2e m, order %.3f\n", errors[0], errors[1],
-              errors[2], errors[3], slope);
+  std::printf("%s, J2 + C22/S22, 6 h: errors %.2e %.2e %.2e %.2e m, order %.3f\n",
+              integrator_name(integrator).data(), errors[0], errors[1], errors[2], errors[3], slope);
   EXPECT_GE(slope, 3.7);
   EXPECT_LE(slope, 4.3);
+}
+
+TEST(Yoshida, TimeDependentFieldKeepsFourthOrder) {
+  check_time_dependent_field_order(Integrator::kYoshida4, {10, 20, 40, 60});
+}
+TEST(BlanesMoan, TimeDependentFieldKeepsFourthOrder) {
+  check_time_dependent_field_order(Integrator::kBlanesMoan4, {20, 40, 60, 120});
 }
 
 // Drag is velocity-dependent; each kick splits it symmetrically around the conservative kick, which keeps
 // the composed step 4th order. A low-perigee object (perigee 191 km, e = 0.088, Cd A/m = 0.40 m^2/kg, as
 // leo-19647 object 14524), full force model, 14,000 s: self-convergence against a dt = 0.5 s solution.
 // (With drag taken at the velocity before each kick the errors were 30 / 88 / 199 / 329 m: first order.)
-TEST(Yoshida, LowPerigeeDragKeepsFourthOrder) {
+void check_low_perigee_drag_order(Integrator integrator, const std::vector<double>& dts,
+                                  double max_error_at_10_m) {
   Eigen::Vector3d r0, v0;
   const double e = 0.088, a = (6378137.0 + 191e3) / (1.0 - e);
   testing::state_from_elements(a, e, 51.6 * kDeg, 0.3, 1.1, 0.2, r0, v0);
-  YoshidaPropagator propagator(ForceModelSettings{}, kEpoch);
+  SymplecticPropagator propagator(ForceModelSettings{}, kEpoch, integrator);
   auto run = [&](double dt) {
     Population p = one_object(r0, v0);
     p.drag_area_to_mass_m2_kg[0] = 0.40;
@@ -134,19 +168,52 @@ TEST(Yoshida, LowPerigeeDragKeepsFourthOrder) {
   // Drag matters here: without it the object ends far from where it does with it.
   ForceModelSettings no_drag;
   no_drag.drag = false;
-  YoshidaPropagator drag_free(no_drag, kEpoch);
+  SymplecticPropagator drag_free(no_drag, kEpoch);
   Population p = one_object(r0, v0);
   for (int s = 0; s < 1400; ++s) drag_free.step(p, s * 10.0, 10.0);
   EXPECT_GT((p.state.position(0) - reference).norm(), 1e3);
-  std::vector<double> dts{2.5, 5.0, 10.0, 20.0}, errors;
+  std::vector<double> errors;
   for (double dt : dts) errors.push_back((run(dt) - reference).norm());
   const double slope = fitted_slope(dts, errors);
   std::printf(
-      "drag, perigee 191 km, 14,000 s: errors %.3g %.3g %.3g %.3g m at dt 2.5/5/10/20 s, order %.3f\n",
-      errors[0], errors[1], errors[2], errors[3], slope);
+      "%s, drag, perigee 191 km, 14,000 s: errors %.3g %.3g %.3g %.3g m at dt %g/%g/%g/%g s, order %.3f\n",
+      integrator_name(integrator).data(), errors[0], errors[1], errors[2], errors[3], dts[0], dts[1], dts[2],
+      dts[3], slope);
   EXPECT_GE(slope, 3.5);
   EXPECT_LE(slope, 4.5);
-  EXPECT_LT(errors[2], 10.0);  // dt 10 s (was 200 m for leo-19647 object 14524)
+  EXPECT_LT((run(10.0) - reference).norm(), max_error_at_10_m);
+}
+
+// dt 10 s: Yoshida was 200 m off for leo-19647 object 14524 before the low objects' sub-steps.
+TEST(Yoshida, LowPerigeeDragKeepsFourthOrder) {
+  check_low_perigee_drag_order(Integrator::kYoshida4, {2.5, 5, 10, 20}, 10.0);
+}
+// Blanes-Moan's own error is so small here (millimetres at 10 s) that other effects of the same size
+// set the measured order: the density table's kinks (a piecewise exponential: the drag's slope jumps at
+// each layer boundary) and the switch to sub-steps below 300 km, which falls on different orbit
+// positions for each step. (Measured: order 2.8 with the table, 1.8 with the smooth fit, over 10..50 s.)
+// So for this orbit the test is the error itself, against Yoshida's.
+TEST(BlanesMoan, LowPerigeeDragWithTheDensityTableIsCentimetresAtTenSeconds) {
+  Eigen::Vector3d r0, v0;
+  const double e = 0.088, a = (6378137.0 + 191e3) / (1.0 - e);
+  testing::state_from_elements(a, e, 51.6 * kDeg, 0.3, 1.1, 0.2, r0, v0);
+  auto run = [&](Integrator integrator, double dt) {
+    SymplecticPropagator propagator(ForceModelSettings{}, kEpoch, integrator);
+    Population p = one_object(r0, v0);
+    p.drag_area_to_mass_m2_kg[0] = 0.40;
+    const int steps = static_cast<int>(std::lround(14000.0 / dt));
+    for (int s = 0; s < steps; ++s) propagator.step(p, s * dt, dt);
+    return p.state.position(0);
+  };
+  const Eigen::Vector3d reference = run(Integrator::kBlanesMoan4, 0.5);
+  const double yoshida_10 = (run(Integrator::kYoshida4, 10.0) - reference).norm();
+  const double blanes_moan_10 = (run(Integrator::kBlanesMoan4, 10.0) - reference).norm();
+  const double blanes_moan_35 = (run(Integrator::kBlanesMoan4, 35.0) - reference).norm();
+  std::printf("density table, perigee 191 km: yoshida4 10 s %.3g m, blanes_moan4 10 s %.3g m, 35 s %.3g m\n",
+              yoshida_10, blanes_moan_10, blanes_moan_35);
+  EXPECT_LT(blanes_moan_10, 0.02);
+  EXPECT_LT(blanes_moan_35, 1.0);
+  EXPECT_LT(blanes_moan_35, yoshida_10);
 }
 
 // step_keeping_start copies the start states in the same pass: the copy is the state before the step and
@@ -163,7 +230,7 @@ TEST(Yoshida, StepKeepingStartCopiesTheStartAndStepsAsUsual) {
     a.add(one.record(0));
   }
   Population b = a;
-  YoshidaPropagator plain(ForceModelSettings{}, kEpoch), keeping(ForceModelSettings{}, kEpoch);
+  SymplecticPropagator plain(ForceModelSettings{}, kEpoch), keeping(ForceModelSettings{}, kEpoch);
   plain.set_threads(2);
   keeping.set_threads(2);
   StateArrays start;
@@ -198,7 +265,7 @@ TEST(Yoshida, LowObjectsTakeSubstepsWhateverTheirCompany) {
   }
   crowd.add(alone.record(0));
   const std::size_t low_index = crowd.size() - 1;
-  YoshidaPropagator single(ForceModelSettings{}, kEpoch), team(ForceModelSettings{}, kEpoch);
+  SymplecticPropagator single(ForceModelSettings{}, kEpoch), team(ForceModelSettings{}, kEpoch);
   single.set_threads(1);
   team.set_threads(2);
   std::size_t substepped_steps = 0;
@@ -266,7 +333,7 @@ TEST(Yoshida, EnergyBoundedAndAngularMomentumConservedOver1000Orbits) {
   Population p = one_object(r0, v0);
   const double e0 = 0.5 * v0.squaredNorm() - kMu / r0.norm();
   const Eigen::Vector3d h0 = r0.cross(v0);
-  YoshidaPropagator propagator(only(false), kEpoch);
+  SymplecticPropagator propagator(only(false), kEpoch);
   double max_first = 0, max_last = 0, max_h = 0;
   for (long s = 0; s < steps; ++s) {
     propagator.step(p, s * dt, dt);
@@ -288,7 +355,7 @@ TEST(Yoshida, J2NodalRegressionMatchesTheSecularRate) {
   Eigen::Vector3d r0, v0;
   testing::state_from_elements(a, 0.0, inc, 0.0, 0.0, 0.0, r0, v0);
   Population p = one_object(r0, v0);
-  YoshidaPropagator propagator(only(true), kEpoch);
+  SymplecticPropagator propagator(only(true), kEpoch);
   const double dt = 10.0;
   const long steps = 10 * 8640;
   // Least-squares line through the node longitude sampled every minute (unwrapped).

@@ -8,7 +8,7 @@
 #include <numbers>
 
 #include "core/integration/burn_up.hpp"
-#include "core/integration/yoshida_propagator.hpp"
+#include "core/integration/symplectic_propagator.hpp"
 #include "core/population/leo19647.hpp"
 
 namespace kessler {
@@ -156,7 +156,7 @@ TEST(BadInput, PropagationRefusesUnsoundObjectsNamingObjectAndField) {
 TEST(BadInput, StepRefusesBadStepsAndRaggedArrays) {
   Population p;
   p.add(sound(1));
-  YoshidaPropagator propagator(ForceModelSettings{}, leo19647_epoch());
+  SymplecticPropagator propagator(ForceModelSettings{}, leo19647_epoch());
   EXPECT_THROW(propagator.step(p, 0.0, 0.0), std::invalid_argument);
   EXPECT_THROW(propagator.step(p, 0.0, -10.0), std::invalid_argument);
   EXPECT_THROW(propagator.step(p, 0.0, std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);

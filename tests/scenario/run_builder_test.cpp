@@ -38,6 +38,7 @@ v1::Scenario leo_subset(const char* extra = "") {
   std::string text = std::string(R"(
 population: {dataset: leo-19647, max_objects: 4000}
 duration_days: 0.02
+dt_s: 10
 force_model: {srp: false, atmosphere: exponential_fit}
 conjunctions: {screening_distance_km: 10}
 progress_every_steps: 1
@@ -182,7 +183,7 @@ TEST(RunBuilder, BadScenariosAreRefusedBeforeAnythingRuns) {
            Bad{"population: {dataset: leo-19647}\ndt_s: 0", "dt_s: must be positive, got 0"},
            Bad{"population: {dataset: leo-19647}\ndt_s: -1", "dt_s: must be positive, got -1"},
            Bad{"population: {dataset: leo-19647}\nduration_days: 0.00001",
-               "duration_days: the run (0.864 s) is shorter than one step (dt_s = 10 s)"},
+               "duration_days: the run (0.864 s) is shorter than one step (dt_s = 30 s)"},
        }) {
     v1::Scenario s;
     ASSERT_FALSE(parse_scenario(bad.text, s));

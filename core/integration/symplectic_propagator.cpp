@@ -4,7 +4,7 @@
 // SIMD and scalar paths still give identical bits (tested).
 #pragma GCC optimize("no-trapping-math")
 
-#include "core/integration/yoshida_propagator.hpp"
+#include "core/integration/symplectic_propagator.hpp"
 
 #include "core/physics/constants.hpp"
 
@@ -16,7 +16,7 @@
 
 namespace kessler {
 
-struct YoshidaPropagator::StepArrays {
+struct SymplecticPropagator::StepArrays {
   double* x;
   double* y;
   double* z;
@@ -29,14 +29,16 @@ struct YoshidaPropagator::StepArrays {
 
 namespace {
 
-using StepArrays = YoshidaPropagator::StepArrays;
+using StepArrays = SymplecticPropagator::StepArrays;
 
-// The start states are written to `start` (when not null) in the same pass.
-template <AtmosphereModel kAtmosphere, bool kKeepStart>
-void yoshida_step(const StepArrays& s, std::size_t n, const ForceInstant& f1, const ForceInstant& f2,
-                  const ForceInstant& f3, double dt, int threads, StateArrays* start) {
-  const double c1 = YoshidaPropagator::kC1 * dt, c2 = YoshidaPropagator::kC2 * dt;
-  const double d1 = YoshidaPropagator::kD1 * dt, d2 = YoshidaPropagator::kD2 * dt;
+// The start states are written to `start` (when not null) in the same pass. drift and kick hold the
+// composition's weights times dt; f the force instants of the kicks.
+template <AtmosphereModel kAtmosphere, bool kKeepStart, int kKicks>
+void composed_step(const StepArrays& s, std::size_t n, const ForceInstant* f, const double* drift,
+                   const double* kick_length, int threads, StateArrays* start) {
+  double a[kKicks + 1], b[kKicks];
+  for (int k = 0; k <= kKicks; ++k) a[k] = drift[k];
+  for (int k = 0; k < kKicks; ++k) b[k] = kick_length[k];
   const long count = static_cast<long>(n);
   // Local pointers: the loop must not re-read them through `s` (a store could alias it in principle).
   double* __restrict px = s.x;
@@ -64,21 +66,16 @@ void yoshida_step(const StepArrays& s, std::size_t n, const ForceInstant& f1, co
       sx[i] = x, sy[i] = y, sz[i] = z;
       svx[i] = vx, svy[i] = vy, svz[i] = vz;
     }
-    x += c1 * vx;
-    y += c1 * vy;
-    z += c1 * vz;
-    kick<kAtmosphere>(f1, d1, x, y, z, vx, vy, vz, cda, am);
-    x += c2 * vx;
-    y += c2 * vy;
-    z += c2 * vz;
-    kick<kAtmosphere>(f2, d2, x, y, z, vx, vy, vz, cda, am);
-    x += c2 * vx;
-    y += c2 * vy;
-    z += c2 * vz;
-    kick<kAtmosphere>(f3, d1, x, y, z, vx, vy, vz, cda, am);
-    x += c1 * vx;
-    y += c1 * vy;
-    z += c1 * vz;
+#pragma GCC unroll 8
+    for (int k = 0; k < kKicks; ++k) {
+      x += a[k] * vx;
+      y += a[k] * vy;
+      z += a[k] * vz;
+      kick<kAtmosphere>(f[k], b[k], x, y, z, vx, vy, vz, cda, am);
+    }
+    x += a[kKicks] * vx;
+    y += a[kKicks] * vy;
+    z += a[kKicks] * vz;
     px[i] = x;
     py[i] = y;
     pz[i] = z;
@@ -88,32 +85,54 @@ void yoshida_step(const StepArrays& s, std::size_t n, const ForceInstant& f1, co
   }
 }
 
+template <int kKicks>
+void step_with(AtmosphereModel atmosphere, const StepArrays& s, std::size_t n, const ForceInstant* f,
+               const double* drift, const double* kick_length, int threads, StateArrays* start) {
+  const bool table = atmosphere == AtmosphereModel::kDensityTable;
+  if (start != nullptr) {
+    if (table)
+      composed_step<AtmosphereModel::kDensityTable, true, kKicks>(s, n, f, drift, kick_length, threads,
+                                                                  start);
+    else
+      composed_step<AtmosphereModel::kExponentialFit, true, kKicks>(s, n, f, drift, kick_length, threads,
+                                                                    start);
+  } else {
+    if (table)
+      composed_step<AtmosphereModel::kDensityTable, false, kKicks>(s, n, f, drift, kick_length, threads,
+                                                                   nullptr);
+    else
+      composed_step<AtmosphereModel::kExponentialFit, false, kKicks>(s, n, f, drift, kick_length, threads,
+                                                                     nullptr);
+  }
+}
+
 }  // namespace
 
-YoshidaPropagator::YoshidaPropagator(const ForceModelSettings& forces, const UtcEpoch& epoch)
-    : model_(forces, epoch) {}
+SymplecticPropagator::SymplecticPropagator(const ForceModelSettings& forces, const UtcEpoch& epoch,
+                                           Integrator integrator)
+    : model_(forces, epoch), integrator_(integrator), composition_(composition_of(integrator)) {}
 
-void YoshidaPropagator::step(Population& population, double t_start_s, double dt_s) {
+void SymplecticPropagator::step(Population& population, double t_start_s, double dt_s) {
   advance(population, t_start_s, dt_s, nullptr);
 }
 
-void YoshidaPropagator::step_keeping_start(Population& population, double t_start_s, double dt_s,
-                                           StateArrays& start_out) {
+void SymplecticPropagator::step_keeping_start(Population& population, double t_start_s, double dt_s,
+                                              StateArrays& start_out) {
   advance(population, t_start_s, dt_s, &start_out);
 }
 
-void YoshidaPropagator::advance(Population& population, double t_start_s, double dt_s,
-                                StateArrays* start_out) {
+void SymplecticPropagator::advance(Population& population, double t_start_s, double dt_s,
+                                   StateArrays* start_out) {
   if (!std::isfinite(dt_s) || dt_s <= 0.0)
-    throw std::invalid_argument("YoshidaPropagator: dt_s must be finite and positive, got " +
+    throw std::invalid_argument("SymplecticPropagator: dt_s must be finite and positive, got " +
                                 std::to_string(dt_s));
-  if (!std::isfinite(t_start_s)) throw std::invalid_argument("YoshidaPropagator: t_start_s is not finite");
+  if (!std::isfinite(t_start_s)) throw std::invalid_argument("SymplecticPropagator: t_start_s is not finite");
   const std::size_t n = population.size();
   StateArrays& st = population.state;
   if (st.x.size() != n || st.y.size() != n || st.z.size() != n || st.vx.size() != n || st.vy.size() != n ||
       st.vz.size() != n || population.drag_area_to_mass_m2_kg.size() != n ||
       population.srp_area_to_mass_m2_kg.size() != n)
-    throw std::invalid_argument("YoshidaPropagator: population arrays differ in length");
+    throw std::invalid_argument("SymplecticPropagator: population arrays differ in length");
   if (start_out != nullptr) start_out->resize(n);
   if (n == 0) return;
   StepArrays arrays{st.x.data(),
@@ -163,28 +182,28 @@ void YoshidaPropagator::advance(Population& population, double t_start_s, double
   }
 }
 
-void YoshidaPropagator::step_arrays(const StepArrays& arrays, std::size_t n, double t_start_s, double dt_s,
-                                    int threads, StateArrays* start_out) const {
-  // Sub-step times: after drift c1, after drifts c1 + c2 (= dt/2), after c1 + 2 c2 (= dt - c1).
-  ForceInstant f1 = model_.instant(t_start_s + kC1 * dt_s);
-  ForceInstant f2 = model_.instant(t_start_s + 0.5 * dt_s);
-  ForceInstant f3 = model_.instant(t_start_s + (kC1 + 2.0 * kC2) * dt_s);
-  // Drag rate k |v_rel| times the longest kick (|w0| dt) at most 1/4, i.e. at most 1/8 per half-flow, so a
-  // kick's drag changes v_rel by a factor in [1/1.125^2, 1/0.875^2] (drag.hpp): inactive above ~100 km.
-  const double drag_limit = kDragRateLimitPerKick / (std::abs(kW0) * dt_s);
-  f1.drag_rate_limit_per_s = f2.drag_rate_limit_per_s = f3.drag_rate_limit_per_s = drag_limit;
-  const bool table = model_.settings().atmosphere == AtmosphereModel::kDensityTable;
-  if (start_out != nullptr) {
-    if (table)
-      yoshida_step<AtmosphereModel::kDensityTable, true>(arrays, n, f1, f2, f3, dt_s, threads, start_out);
-    else
-      yoshida_step<AtmosphereModel::kExponentialFit, true>(arrays, n, f1, f2, f3, dt_s, threads, start_out);
-  } else {
-    if (table)
-      yoshida_step<AtmosphereModel::kDensityTable, false>(arrays, n, f1, f2, f3, dt_s, threads, nullptr);
-    else
-      yoshida_step<AtmosphereModel::kExponentialFit, false>(arrays, n, f1, f2, f3, dt_s, threads, nullptr);
+void SymplecticPropagator::step_arrays(const StepArrays& arrays, std::size_t n, double t_start_s, double dt_s,
+                                       int threads, StateArrays* start_out) const {
+  const Composition& c = composition_;
+  ForceInstant f[Composition::kMaxKicks];
+  double drift[Composition::kMaxKicks + 1], kick_length[Composition::kMaxKicks];
+  // Drag rate k |v_rel| times the longest kick at most 1/4, i.e. at most 1/8 per half-flow, so a kick's
+  // drag changes v_rel by a factor in [1/1.125^2, 1/0.875^2] (drag.hpp): inactive above ~100 km.
+  const double drag_limit = kDragRateLimitPerKick / (c.largest_kick() * dt_s);
+  for (int k = 0; k < c.kicks; ++k) {
+    const auto u = static_cast<std::size_t>(k);
+    f[k] = model_.instant(t_start_s + c.kick_time[u] * dt_s);
+    f[k].drag_rate_limit_per_s = drag_limit;
+    kick_length[k] = c.kick[u] * dt_s;
   }
+  for (int k = 0; k <= c.kicks; ++k) drift[k] = c.drift[static_cast<std::size_t>(k)] * dt_s;
+  const AtmosphereModel atmosphere = model_.settings().atmosphere;
+  if (c.kicks == 3)
+    step_with<3>(atmosphere, arrays, n, f, drift, kick_length, threads, start_out);
+  else if (c.kicks == 7)
+    step_with<7>(atmosphere, arrays, n, f, drift, kick_length, threads, start_out);
+  else
+    throw std::logic_error("SymplecticPropagator: no kernel for this composition");
 }
 
 void validate_for_propagation(const Population& population) {
