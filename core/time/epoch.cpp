@@ -16,7 +16,9 @@ double julian_day_at_midnight(int year, int month, int day) {
          std::floor(275 * month / 9.0) + day + 1721013.5;
 }
 
-bool is_leap(int year) { return (year % 4 == 0 && year % 100 != 0) || year % 400 == 0; }
+bool is_leap(int year) {
+  return (year % 4 == 0 && year % 100 != 0) || year % 400 == 0;
+}
 
 int days_in_month(int year, int month) {
   static constexpr int kDays[] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
@@ -37,7 +39,9 @@ UtcEpoch::UtcEpoch(double whole, double fraction) {
   jd_fraction_ = fraction - shift;
 }
 
-UtcEpoch UtcEpoch::from_julian_date(double jd_whole, double jd_fraction) { return {jd_whole, jd_fraction}; }
+UtcEpoch UtcEpoch::from_julian_date(double jd_whole, double jd_fraction) {
+  return {jd_whole, jd_fraction};
+}
 
 UtcEpoch UtcEpoch::from_calendar(int year, int month, int day, int hour, int minute, double second) {
   double fraction = (hour * 3600.0 + minute * 60.0 + second) / kSecondsPerDay;
@@ -83,7 +87,8 @@ std::optional<UtcEpoch> UtcEpoch::parse_iso8601(std::string_view text, std::stri
       if (pos < text.size() && text[pos] == '.') {
         double scale = 0.1;
         ++pos;
-        if (pos >= text.size() || text[pos] < '0' || text[pos] > '9') return fail("expected digits after '.'");
+        if (pos >= text.size() || text[pos] < '0' || text[pos] > '9')
+          return fail("expected digits after '.'");
         while (pos < text.size() && text[pos] >= '0' && text[pos] <= '9') {
           second += (text[pos] - '0') * scale;
           scale *= 0.1;
@@ -101,7 +106,9 @@ std::optional<UtcEpoch> UtcEpoch::parse_iso8601(std::string_view text, std::stri
   return from_calendar(year, month, day, hour, minute, second);
 }
 
-UtcEpoch UtcEpoch::plus_seconds(double dt_s) const { return {jd_whole_, jd_fraction_ + dt_s / kSecondsPerDay}; }
+UtcEpoch UtcEpoch::plus_seconds(double dt_s) const {
+  return {jd_whole_, jd_fraction_ + dt_s / kSecondsPerDay};
+}
 
 double UtcEpoch::seconds_since(const UtcEpoch& origin) const {
   return ((jd_whole_ - origin.jd_whole_) + (jd_fraction_ - origin.jd_fraction_)) * kSecondsPerDay;
@@ -129,19 +136,26 @@ void UtcEpoch::to_calendar(int& year, int& month, int& day, int& hour, int& minu
 std::string UtcEpoch::to_iso8601(int decimals) const {
   if (decimals < 0) decimals = 0;
   if (decimals > 9) decimals = 9;
-  // Round to the printed precision first so that 59.9999 never prints as 60.000.
-  double unit_s = std::pow(10.0, -decimals);
-  double seconds_of_day = std::round(jd_fraction_ * kSecondsPerDay / unit_s) * unit_s;
-  UtcEpoch rounded(jd_whole_, seconds_of_day / kSecondsPerDay);
+  // Round the time of day to whole units of the printed precision and split it in integers, so that
+  // 59.9999 s never prints as 60.000 (a round trip through the day fraction can land an ulp below).
+  long long per_second = 1;
+  for (int k = 0; k < decimals; ++k) per_second *= 10;
+  const long long per_day = 86400LL * per_second;
+  long long units = std::llround(jd_fraction_ * kSecondsPerDay * static_cast<double>(per_second));
+  const long long day_carry = units >= per_day ? 1 : 0;  // jd_fraction_ is in [0, 1)
+  units -= day_carry * per_day;
   int y, mo, d, h, mi;
   double s;
-  rounded.to_calendar(y, mo, d, h, mi, s);
-  if (s < 0) s = 0;
+  UtcEpoch(jd_whole_ + static_cast<double>(day_carry), 0.0).to_calendar(y, mo, d, h, mi, s);
+  h = static_cast<int>(units / (3600 * per_second));
+  mi = static_cast<int>(units / (60 * per_second) % 60);
+  const long long second_units = units % (60 * per_second);
   char buf[64];
   if (decimals == 0)
-    std::snprintf(buf, sizeof buf, "%04d-%02d-%02dT%02d:%02d:%02dZ", y, mo, d, h, mi, static_cast<int>(std::lround(s)));
+    std::snprintf(buf, sizeof buf, "%04d-%02d-%02dT%02d:%02d:%02lldZ", y, mo, d, h, mi, second_units);
   else
-    std::snprintf(buf, sizeof buf, "%04d-%02d-%02dT%02d:%02d:%0*.*fZ", y, mo, d, h, mi, decimals + 3, decimals, s);
+    std::snprintf(buf, sizeof buf, "%04d-%02d-%02dT%02d:%02d:%02lld.%0*lldZ", y, mo, d, h, mi,
+                  second_units / per_second, decimals, second_units % per_second);
   return buf;
 }
 

@@ -8,6 +8,21 @@
 namespace kessler {
 namespace {
 
+// A time of day that is a whole minute after a day-fraction round trip (16:48:00 reached by 30 s steps
+// from 00:00, as the quickstart's progress printed "16:47:60.000") prints as the minute, at every
+// precision, and the last instant of a day rolls over to the next date.
+TEST(Epoch, WholeMinutesNeverPrintSixtySeconds) {
+  const UtcEpoch start = UtcEpoch::from_calendar(2022, 1, 22, 0, 0, 0.0);
+  for (int step = 0; step <= 2880; ++step) {
+    const std::string text = start.plus_seconds(30.0 * step).to_iso8601(3);
+    EXPECT_EQ(text.find(":60"), std::string::npos) << text;
+  }
+  EXPECT_EQ(start.plus_seconds(60480.0).to_iso8601(3), "2022-01-22T16:48:00.000Z");
+  EXPECT_EQ(start.plus_seconds(86399.9996).to_iso8601(3), "2022-01-23T00:00:00.000Z");
+  EXPECT_EQ(start.plus_seconds(86399.9996).to_iso8601(0), "2022-01-23T00:00:00Z");
+  EXPECT_EQ(start.plus_seconds(1.25).to_iso8601(2), "2022-01-22T00:00:01.25Z");
+}
+
 TEST(UtcEpoch, J2000IsJulianDate2451545) {
   auto epoch = UtcEpoch::from_calendar(2000, 1, 1, 12, 0, 0.0);
   EXPECT_DOUBLE_EQ(epoch.julian_date(), 2451545.0);
