@@ -18,6 +18,7 @@
 
 #include <array>
 #include <cmath>
+#include <optional>
 #include <string_view>
 
 namespace kessler {
@@ -67,6 +68,13 @@ inline const Composition& composition_of(Integrator integrator) {
 
 inline std::string_view integrator_name(Integrator integrator) {
   return integrator == Integrator::kBlanesMoan4 ? "blanes_moan4" : "yoshida4";
+}
+
+// The integrator of a name ("yoshida4", "blanes_moan4"), or nullopt.
+inline std::optional<Integrator> integrator_from_name(std::string_view name) {
+  for (Integrator i : {Integrator::kYoshida4, Integrator::kBlanesMoan4})
+    if (name == integrator_name(i)) return i;
+  return std::nullopt;
 }
 
 }  // namespace kessler

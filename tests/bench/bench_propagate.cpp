@@ -31,8 +31,10 @@ int run(int argc, char** argv) {
     std::cerr << "kessler-bench propagate: --objects, --steps, --threads, --repeats, --dt must be positive\n";
     return 2;
   }
-  const std::string integrator = args.get("--integrator", "blanes_moan4");
-  if (integrator != "yoshida4" && integrator != "blanes_moan4") {
+  const std::string integrator =
+      args.get("--integrator", std::string(integrator_name(Integrator::kBlanesMoan4)));
+  const std::optional<Integrator> composition = integrator_from_name(integrator);
+  if (!composition) {
     std::cerr << "kessler-bench propagate: --integrator is yoshida4 or blanes_moan4\n";
     return 2;
   }
@@ -49,8 +51,7 @@ int run(int argc, char** argv) {
   forces.drag = force_list.find("drag") != std::string::npos;
   forces.srp = force_list.find("srp") != std::string::npos;
   forces.atmosphere = atmosphere == "fit" ? AtmosphereModel::kExponentialFit : AtmosphereModel::kDensityTable;
-  SymplecticPropagator propagator(
-      forces, leo19647_epoch(), integrator == "yoshida4" ? Integrator::kYoshida4 : Integrator::kBlanesMoan4);
+  SymplecticPropagator propagator(forces, leo19647_epoch(), *composition);
   propagator.set_threads(threads);
   std::vector<double> walls, cpus;
   for (int rep = 0; rep < repeats; ++rep) {

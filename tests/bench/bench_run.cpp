@@ -155,7 +155,8 @@ int run(int argc, char** argv) {
     std::cerr << "kessler-bench run: give --kappa or --screen-km, not both\n";
     return 2;
   }
-  if (integrator != "yoshida4" && integrator != "blanes_moan4") {
+  const std::optional<Integrator> composition = integrator_from_name(integrator);
+  if (!composition) {
     std::cerr << "kessler-bench run: --integrator is yoshida4 or blanes_moan4\n";
     return 2;
   }
@@ -167,7 +168,7 @@ int run(int argc, char** argv) {
   SimulationConfig config;
   config.duration_s = days * 86400.0;
   config.dt_s = dt;
-  config.integrator = integrator == "yoshida4" ? Integrator::kYoshida4 : Integrator::kBlanesMoan4;
+  config.integrator = *composition;
   config.threads = threads;
   config.seed = seed;
   config.checkpoint_every_steps = 0;

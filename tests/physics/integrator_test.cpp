@@ -61,6 +61,25 @@ double fitted_slope(const std::vector<double>& dts, const std::vector<double>& e
   return sxy / sxx;
 }
 
+// The object's position after span_s in whole steps of dt.
+Eigen::Vector3d position_after(SymplecticPropagator& propagator, Population p, double span_s, double dt) {
+  const int steps = static_cast<int>(std::lround(span_s / dt));
+  for (int s = 0; s < steps; ++s) propagator.step(p, s * dt, dt);
+  return p.state.position(0);
+}
+
+// The drag tests' object: perigee 191 km, e = 0.088, Cd A/m = 0.40 m^2/kg (as leo-19647 object 14524),
+// followed for kLowPerigeeSpan_s.
+constexpr double kLowPerigeeSpan_s = 14000.0;
+Population low_perigee_object() {
+  Eigen::Vector3d r0, v0;
+  const double e = 0.088, a = (6378137.0 + 191e3) / (1.0 - e);
+  testing::state_from_elements(a, e, 51.6 * kDeg, 0.3, 1.1, 0.2, r0, v0);
+  Population p = one_object(r0, v0);
+  p.drag_area_to_mass_m2_kg[0] = 0.40;
+  return p;
+}
+
 // dts: steps where the 4th-order term dominates (Blanes-Moan's error is ~10^4 times smaller, so its
 // range starts higher, above rounding).
 void check_kepler_order(Integrator integrator, const std::vector<double>& dts) {
@@ -70,10 +89,7 @@ void check_kepler_order(Integrator integrator, const std::vector<double>& dts) {
   SymplecticPropagator propagator(only(false), kEpoch, integrator);
   std::vector<double> errors;
   for (double dt : dts) {
-    Population p = one_object(r0, v0);
-    const int steps = static_cast<int>(std::lround(86400.0 / dt));
-    for (int s = 0; s < steps; ++s) propagator.step(p, s * dt, dt);
-    errors.push_back((p.state.position(0) - exact).norm());
+    errors.push_back((position_after(propagator, one_object(r0, v0), 86400.0, dt) - exact).norm());
     std::printf("%s dt %4.0f s: position error after one day %.3e m\n", integrator_name(integrator).data(),
                 dt, errors.back());
   }
@@ -101,10 +117,7 @@ TEST(BlanesMoan, ThirtySecondStepsBeatYoshidasTenByTwoOrders) {
   const Eigen::Vector3d exact = testing::kepler_position(r0, v0, span_s);
   auto error_after = [&](Integrator integrator, double dt) {
     SymplecticPropagator propagator(only(false), kEpoch, integrator);
-    Population p = one_object(r0, v0);
-    const int steps = static_cast<int>(std::lround(span_s / dt));
-    for (int s = 0; s < steps; ++s) propagator.step(p, s * dt, dt);
-    return (p.state.position(0) - exact).norm();
+    return (position_after(propagator, one_object(r0, v0), span_s, dt) - exact).norm();
   };
   const double yoshida_10 = error_after(Integrator::kYoshida4, 10.0);
   const double blanes_moan_30 = error_after(Integrator::kBlanesMoan4, 30.0);
@@ -124,12 +137,7 @@ void check_time_dependent_field_order(Integrator integrator, const std::vector<d
   Eigen::Vector3d r0, v0;
   testing::state_from_elements(6900e3, 0.01, 51.6 * kDeg, 0.3, 1.1, 0.2, r0, v0);
   SymplecticPropagator propagator(gravity_field, kEpoch, integrator);
-  auto run = [&](double dt) {
-    Population p = one_object(r0, v0);
-    const int steps = static_cast<int>(std::lround(21600.0 / dt));
-    for (int s = 0; s < steps; ++s) propagator.step(p, s * dt, dt);
-    return p.state.position(0);
-  };
+  auto run = [&](double dt) { return position_after(propagator, one_object(r0, v0), 21600.0, dt); };
   const Eigen::Vector3d reference = run(0.5);
   std::vector<double> errors;
   for (double dt : dts) errors.push_back((run(dt) - reference).norm());
@@ -148,30 +156,22 @@ TEST(BlanesMoan, TimeDependentFieldKeepsFourthOrder) {
 }
 
 // Drag is velocity-dependent; each kick splits it symmetrically around the conservative kick, which keeps
-// the composed step 4th order. A low-perigee object (perigee 191 km, e = 0.088, Cd A/m = 0.40 m^2/kg, as
-// leo-19647 object 14524), full force model, 14,000 s: self-convergence against a dt = 0.5 s solution.
+// the composed step 4th order. The low-perigee object, full force model, 14,000 s: self-convergence
+// against a dt = 0.5 s solution.
 // (With drag taken at the velocity before each kick the errors were 30 / 88 / 199 / 329 m: first order.)
 void check_low_perigee_drag_order(Integrator integrator, const std::vector<double>& dts,
                                   double max_error_at_10_m) {
-  Eigen::Vector3d r0, v0;
-  const double e = 0.088, a = (6378137.0 + 191e3) / (1.0 - e);
-  testing::state_from_elements(a, e, 51.6 * kDeg, 0.3, 1.1, 0.2, r0, v0);
   SymplecticPropagator propagator(ForceModelSettings{}, kEpoch, integrator);
   auto run = [&](double dt) {
-    Population p = one_object(r0, v0);
-    p.drag_area_to_mass_m2_kg[0] = 0.40;
-    const int steps = static_cast<int>(std::lround(14000.0 / dt));
-    for (int s = 0; s < steps; ++s) propagator.step(p, s * dt, dt);
-    return p.state.position(0);
+    return position_after(propagator, low_perigee_object(), kLowPerigeeSpan_s, dt);
   };
   const Eigen::Vector3d reference = run(0.5);
   // Drag matters here: without it the object ends far from where it does with it.
   ForceModelSettings no_drag;
   no_drag.drag = false;
   SymplecticPropagator drag_free(no_drag, kEpoch);
-  Population p = one_object(r0, v0);
-  for (int s = 0; s < 1400; ++s) drag_free.step(p, s * 10.0, 10.0);
-  EXPECT_GT((p.state.position(0) - reference).norm(), 1e3);
+  EXPECT_GT((position_after(drag_free, low_perigee_object(), kLowPerigeeSpan_s, 10.0) - reference).norm(),
+            1e3);
   std::vector<double> errors;
   for (double dt : dts) errors.push_back((run(dt) - reference).norm());
   const double slope = fitted_slope(dts, errors);
@@ -194,16 +194,9 @@ TEST(Yoshida, LowPerigeeDragKeepsFourthOrder) {
 // positions for each step. (Measured: order 2.8 with the table, 1.8 with the smooth fit, over 10..50 s.)
 // So for this orbit the test is the error itself, against Yoshida's.
 TEST(BlanesMoan, LowPerigeeDragWithTheDensityTableIsCentimetresAtTenSeconds) {
-  Eigen::Vector3d r0, v0;
-  const double e = 0.088, a = (6378137.0 + 191e3) / (1.0 - e);
-  testing::state_from_elements(a, e, 51.6 * kDeg, 0.3, 1.1, 0.2, r0, v0);
   auto run = [&](Integrator integrator, double dt) {
     SymplecticPropagator propagator(ForceModelSettings{}, kEpoch, integrator);
-    Population p = one_object(r0, v0);
-    p.drag_area_to_mass_m2_kg[0] = 0.40;
-    const int steps = static_cast<int>(std::lround(14000.0 / dt));
-    for (int s = 0; s < steps; ++s) propagator.step(p, s * dt, dt);
-    return p.state.position(0);
+    return position_after(propagator, low_perigee_object(), kLowPerigeeSpan_s, dt);
   };
   const Eigen::Vector3d reference = run(Integrator::kBlanesMoan4, 0.5);
   const double yoshida_10 = (run(Integrator::kYoshida4, 10.0) - reference).norm();
