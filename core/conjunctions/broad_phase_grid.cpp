@@ -1,7 +1,9 @@
 #include "core/conjunctions/broad_phase_grid.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 #include <omp.h>
@@ -43,6 +45,11 @@ constexpr std::uint64_t kForwardRows[4] = {row_offset(0, 1), row_offset(1, -1), 
 // (bit 0: x, bit 1: y).
 constexpr std::uint32_t kForwardRowNeeds[4] = {2u, 1u, 1u, 3u};
 
+// A float below (above) a double: x moved out by 2^-22 |x| rounds to a float on the same side of x
+// (rounding to nearest moves it at most 2^-24 |x| back). No branch, so the box pass still vectorises.
+inline float float_below(double x) { return static_cast<float>(x - std::fabs(x) * 0x1p-22); }
+inline float float_above(double x) { return static_cast<float>(x + std::fabs(x) * 0x1p-22); }
+
 inline void min_max4(double a, double b, double c, double d, double& lo, double& hi) {
   lo = std::min(std::min(a, b), std::min(c, d));
   hi = std::max(std::max(a, b), std::max(c, d));
@@ -52,7 +59,11 @@ inline void min_max4(double a, double b, double c, double d, double& lo, double&
 
 void BroadPhaseGrid::prepare(std::size_t n, int threads) {
   box_.resize(n);
-  slot_.resize(n);
+  slot_index_.resize(n);
+  hull_.resize(n);
+  for (auto& axis : slot_box_) axis.resize(n + kLanes);
+  slot_key_.resize(n);
+  slot_crosses_.resize(n);
   oversized_flag_.resize(n);
   scratch_.resize(n);
   // At least 4 buckets per object (load <= 1/4: few hash collisions; the occupancy bitmap makes empty
@@ -120,7 +131,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     const double inverse_cell = 1.0 / cell;
     std::fill(counts, counts + partitions, 0u);
     for (std::size_t i = begin; i < end; ++i) {
-      SlotBox& box = box_[i];
+      GridBox& box = box_[i];
       const std::uint64_t cx = axis_cell(box.lo[0], inverse_cell), cy = axis_cell(box.lo[1], inverse_cell),
                           cz = axis_cell(box.lo[2], inverse_cell);
       box.key = (cx << (2 * kAxisBits)) | (cy << kAxisBits) | cz;
@@ -137,7 +148,8 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   // box loop has no branch and no call, so it vectorises; the oversized objects (rare) are listed after.
   double largest_edge = 0.0;
   int any_oversized = 0;
-  SlotBox* const boxes = box_.data();
+  GridBox* const boxes = box_.data();
+  HermiteHull* const hulls = hull_.data();
   char* const oversized_flags = oversized_flag_.data();
   // The Bezier control points' offsets (dt v / 3; a product, not a division per object: rounding moves
   // a box by an ulp, far inside the 1 mm margin). The straight line reaches p0 + dt v0.
@@ -154,6 +166,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
           const double p1 = k == 0 ? s1.x[i] : k == 1 ? s1.y[i] : s1.z[i];
           const double v1 = k == 0 ? s1.vx[i] : k == 1 ? s1.vy[i] : s1.vz[i];
           min_max4(p0[k], p0[k] + reach * v0[k], p1 - reach * v1, p1, lo[k], hi[k]);
+
         } else {
           const double e = p0[k] + reach * v0[k];
           lo[k] = std::min(p0[k], e);
@@ -167,20 +180,37 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
           !(motion_edge <= max_motion_m) || !std::isfinite(lo[0] + lo[1] + lo[2] + hi[0] + hi[1] + hi[2]);
       oversized_flags[i] = oversized;
       any_oversized |= oversized;
-      SlotBox& box = boxes[i];
+      GridBox& box = boxes[i];
       for (int k = 0; k < 3; ++k) {
-        box.lo[k] = lo[k];
-        box.hi[k] = hi[k];
+        box.lo[k] = float_below(lo[k]);
+        box.hi[k] = float_above(hi[k]);
       }
-      box.index = static_cast<std::uint32_t>(i);
-      const double edge = std::max(std::max(hi[0] - lo[0], hi[1] - lo[1]), hi[2] - lo[2]);
+      const double edge = std::max(std::max(double{box.hi[0]} - box.lo[0], double{box.hi[1]} - box.lo[1]),
+                                   double{box.hi[2]} - box.lo[2]);
       largest_edge = std::max(largest_edge, oversized ? 0.0 : edge);
     }
   };
-  if (hermite)
+  if (hermite) {
     box_pass.template operator()<true>();
-  else
+    // The hulls, in their own loop: their 64-byte stores would keep the box loop from vectorising.
+    for (std::size_t i = begin; i < end; ++i) {
+      const double c[4][3] = {{s0.x[i], s0.y[i], s0.z[i]},
+                              {s0.x[i] + reach * s0.vx[i], s0.y[i] + reach * s0.vy[i], s0.z[i] + reach * s0.vz[i]},
+                              {s1.x[i] - reach * s1.vx[i], s1.y[i] - reach * s1.vy[i], s1.z[i] - reach * s1.vz[i]},
+                              {s1.x[i], s1.y[i], s1.z[i]}};
+      HermiteHull& hull = hulls[i];
+      double largest = 0.0;
+      for (int p = 0; p < 4; ++p)
+        for (int k = 0; k < 3; ++k) {
+          hull.point[p][k] = static_cast<float>(c[p][k]);
+          largest = std::max(largest, std::fabs(c[p][k]));
+        }
+      hull.share_m = float_above(share(i));
+      hull.slack_m = hull_slack_m(largest);
+    }
+  } else {
     box_pass.template operator()<false>();
+  }
   my_oversized.clear();
   if (any_oversized)
     for (std::size_t i = begin; i < end; ++i)
@@ -257,10 +287,19 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       starts[f] = start;
       start += c;
     }
-    // Scatter whole records with the starts as cursors, then shift the starts back.
+    // Scatter the boxes, keys and indices with the starts as cursors, then shift the starts back.
     for (std::uint32_t m = lo; m < hi; ++m) {
       const std::size_t b = static_cast<std::size_t>(scratch_[m] >> 32);
-      slot_[starts[b - first_bucket]++] = box_[scratch_[m] & 0xFFFFFFFFu];
+      const std::size_t i = scratch_[m] & 0xFFFFFFFFu;
+      const std::uint32_t k = starts[b - first_bucket]++;
+      const GridBox& box = box_[i];
+      for (int axis = 0; axis < 3; ++axis) {
+        slot_box_[axis][k] = box.lo[axis];
+        slot_box_[3 + axis][k] = box.hi[axis];
+      }
+      slot_key_[k] = box.key;
+      slot_crosses_[k] = static_cast<std::uint8_t>(box.crosses);
+      slot_index_[k] = static_cast<std::uint32_t>(i);
     }
     for (std::size_t f = fine_buckets; f-- > 1;) starts[f] = starts[f - 1];
     starts[0] = lo;
@@ -272,11 +311,11 @@ void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
   const std::size_t n = box_.size();
   for (std::size_t o = begin; o < end; ++o) {
     const std::size_t i = oversized_[o];
-    const SlotBox& a = box_[i];
+    const GridBox& a = box_[i];
     for (std::size_t j = 0; j < n; ++j) {
       // Oversized with oversized: once, from the lower index.
       if (j == i || (oversized_flag_[j] && j < i)) continue;
-      const SlotBox& c = box_[j];
+      const GridBox& c = box_[j];
       if (a.lo[0] <= c.hi[0] && c.lo[0] <= a.hi[0] && a.lo[1] <= c.hi[1] && c.lo[1] <= a.hi[1] &&
           a.lo[2] <= c.hi[2] && c.lo[2] <= a.hi[2])
         out.push_back(CandidatePair{static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)});
@@ -284,28 +323,59 @@ void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
   }
 }
 
+void BroadPhaseGrid::pair_with_slots(std::size_t k, std::size_t first, std::size_t last,
+                                     std::uint64_t key_lo, std::uint64_t span,
+                                     std::vector<CandidatePair>& out) const {
+  const float *lo0 = slot_box_[0].data(), *lo1 = slot_box_[1].data(), *lo2 = slot_box_[2].data();
+  const float *hi0 = slot_box_[3].data(), *hi1 = slot_box_[4].data(), *hi2 = slot_box_[5].data();
+  const float a_lo0 = lo0[k], a_lo1 = lo1[k], a_lo2 = lo2[k], a_hi0 = hi0[k], a_hi1 = hi1[k], a_hi2 = hi2[k];
+  // Short ranges (sparse populations) one slot at a time: the lanes' fixed cost would dominate.
+  if (last - first < kLanes / 2 || last <= first) {
+    for (std::size_t m = first; m < last; ++m) {
+      const bool overlap = (a_lo0 <= hi0[m]) & (lo0[m] <= a_hi0) & (a_lo1 <= hi1[m]) & (lo1[m] <= a_hi1) &
+                           (a_lo2 <= hi2[m]) & (lo2[m] <= a_hi2);
+      if (overlap && slot_key_[m] - key_lo <= span)
+        out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
+    }
+    return;
+  }
+  for (std::size_t base = first; base < last; base += kLanes) {
+    // kLanes box tests at once, without branches (slots past `last` are read, then masked off).
+    unsigned char hit[kLanes];
+#pragma omp simd
+    for (std::size_t l = 0; l < kLanes; ++l) {
+      const std::size_t m = base + l;
+      hit[l] = static_cast<unsigned char>((a_lo0 <= hi0[m]) & (lo0[m] <= a_hi0) & (a_lo1 <= hi1[m]) &
+                                          (lo1[m] <= a_hi1) & (a_lo2 <= hi2[m]) & (lo2[m] <= a_hi2));
+    }
+    std::uint64_t word[kLanes / 8];
+    std::memcpy(word, hit, sizeof hit);
+    for (std::size_t w = 0; w < kLanes / 8; ++w) {
+      std::uint64_t bits = word[w];
+      while (bits != 0) {
+        const std::size_t m = base + 8 * w + static_cast<std::size_t>(std::countr_zero(bits)) / 8;
+        bits &= bits - 1;
+        if (m >= last) break;
+        // The cell: buckets hold other cells too.
+        if (slot_key_[m] - key_lo <= span)  // unsigned: below key_lo wraps high
+          out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
+      }
+    }
+  }
+}
+
 void BroadPhaseGrid::pair_with_buckets(std::size_t k, std::size_t first_bucket, std::size_t count,
                                        std::size_t from, std::uint64_t key_lo, std::uint64_t span,
                                        std::vector<CandidatePair>& out) const {
-  const SlotBox& a = slot_[k];
-  auto scan = [&](std::size_t first, std::size_t last) {
-    for (std::size_t m = first; m < last; ++m) {
-      const SlotBox& c = slot_[m];
-      // One branch per record (the cell test and the six overlap tests combined without short-circuit:
-      // their outcomes are hard to predict, a branch each cost more than the comparisons).
-      const bool same_cell = c.key - key_lo <= span;  // unsigned: below key_lo wraps high
-      const bool overlap = (a.lo[0] <= c.hi[0]) & (c.lo[0] <= a.hi[0]) & (a.lo[1] <= c.hi[1]) &
-                           (c.lo[1] <= a.hi[1]) & (a.lo[2] <= c.hi[2]) & (c.lo[2] <= a.hi[2]);
-      if (same_cell & overlap) out.push_back(CandidatePair{a.index, c.index});
-    }
-  };
   if (first_bucket + count <= bucket_mask_ + 1) {
     // One contiguous range (`from` lies in the first bucket or before it).
-    scan(std::max<std::size_t>(bucket_start_[first_bucket], from), bucket_start_[first_bucket + count]);
+    pair_with_slots(k, std::max<std::size_t>(bucket_start_[first_bucket], from),
+                    bucket_start_[first_bucket + count], key_lo, span, out);
   } else {
     for (std::size_t d = 0; d < count; ++d) {  // wraps around the end of the table
       const std::size_t b = (first_bucket + d) & bucket_mask_;
-      scan(d == 0 ? std::max<std::size_t>(bucket_start_[b], from) : bucket_start_[b], bucket_start_[b + 1]);
+      pair_with_slots(k, d == 0 ? std::max<std::size_t>(bucket_start_[b], from) : bucket_start_[b],
+                      bucket_start_[b + 1], key_lo, span, out);
     }
   }
 }
@@ -313,8 +383,8 @@ void BroadPhaseGrid::pair_with_buckets(std::size_t k, std::size_t first_bucket, 
 void BroadPhaseGrid::collect_pairs(std::size_t slot_begin, std::size_t slot_end,
                                    std::vector<CandidatePair>& out) const {
   for (std::size_t k = slot_begin; k < slot_end; ++k) {
-    const std::uint64_t key = slot_[k].key;
-    const std::uint32_t crosses = slot_[k].crosses;
+    const std::uint64_t key = slot_key_[k];
+    const std::uint32_t crosses = slot_crosses_[k];
     // z cells of a neighbour row: z - 1 and z, and z + 1 only if the box reaches into the next z cell.
     const std::size_t z_cells = (crosses & 4u) ? 3 : 2;
     // Own row: the same cell (slots after k) and the next z cell, in buckets b and b + 1.

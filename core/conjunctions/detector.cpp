@@ -117,7 +117,21 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
       grid_.collect_oversized_pairs(static_cast<std::size_t>(o), static_cast<std::size_t>(o) + 1, mine);
     collected_at_[t] = omp_get_wtime();
     std::vector<Encounter>& found = events_[t];
-    for (const CandidatePair& pair : mine) examine_pair(population, step, pair.i, pair.j, found);
+    if (settings_.narrow_phase == NarrowPhase::kHermite) {
+      // The hulls first (one cache line per object, at two random places in memory: ask for a pair's
+      // hulls a few pairs ahead so their loads overlap); the states only for pairs they keep.
+      constexpr std::size_t kAhead = 8;
+      for (std::size_t p = 0; p < mine.size(); ++p) {
+        if (p + kAhead < mine.size()) {
+          __builtin_prefetch(&grid_.hull(mine[p + kAhead].i));
+          __builtin_prefetch(&grid_.hull(mine[p + kAhead].j));
+        }
+        if (hulls_may_come_within(grid_.hull(mine[p].i), grid_.hull(mine[p].j)))
+          examine_pair(population, step, mine[p].i, mine[p].j, found);
+      }
+    } else {
+      for (const CandidatePair& pair : mine) examine_pair(population, step, pair.i, pair.j, found);
+    }
   }
   const double t_grid = *std::max_element(collected_at_.begin(), collected_at_.end());
   std::size_t total = 0, pairs = 0;
