@@ -47,8 +47,12 @@ constexpr std::uint32_t kForwardRowNeeds[4] = {2u, 1u, 1u, 3u};
 
 // A float below (above) a double: x moved out by 2^-22 |x| rounds to a float on the same side of x
 // (rounding to nearest moves it at most 2^-24 |x| back). No branch, so the box pass still vectorises.
-inline float float_below(double x) { return static_cast<float>(x - std::fabs(x) * 0x1p-22); }
-inline float float_above(double x) { return static_cast<float>(x + std::fabs(x) * 0x1p-22); }
+inline float float_below(double x) {
+  return static_cast<float>(x - std::fabs(x) * 0x1p-22);
+}
+inline float float_above(double x) {
+  return static_cast<float>(x + std::fabs(x) * 0x1p-22);
+}
 
 inline void min_max4(double a, double b, double c, double d, double& lo, double& hi) {
   lo = std::min(std::min(a, b), std::min(c, d));
@@ -194,10 +198,11 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     box_pass.template operator()<true>();
     // The hulls, in their own loop: their 64-byte stores would keep the box loop from vectorising.
     for (std::size_t i = begin; i < end; ++i) {
-      const double c[4][3] = {{s0.x[i], s0.y[i], s0.z[i]},
-                              {s0.x[i] + reach * s0.vx[i], s0.y[i] + reach * s0.vy[i], s0.z[i] + reach * s0.vz[i]},
-                              {s1.x[i] - reach * s1.vx[i], s1.y[i] - reach * s1.vy[i], s1.z[i] - reach * s1.vz[i]},
-                              {s1.x[i], s1.y[i], s1.z[i]}};
+      const double c[4][3] = {
+          {s0.x[i], s0.y[i], s0.z[i]},
+          {s0.x[i] + reach * s0.vx[i], s0.y[i] + reach * s0.vy[i], s0.z[i] + reach * s0.vz[i]},
+          {s1.x[i] - reach * s1.vx[i], s1.y[i] - reach * s1.vy[i], s1.z[i] - reach * s1.vz[i]},
+          {s1.x[i], s1.y[i], s1.z[i]}};
       HermiteHull& hull = hulls[i];
       double largest = 0.0;
       for (int p = 0; p < 4; ++p)
@@ -323,9 +328,8 @@ void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
   }
 }
 
-void BroadPhaseGrid::pair_with_slots(std::size_t k, std::size_t first, std::size_t last,
-                                     std::uint64_t key_lo, std::uint64_t span,
-                                     std::vector<CandidatePair>& out) const {
+void BroadPhaseGrid::pair_with_slots(std::size_t k, std::size_t first, std::size_t last, std::uint64_t key_lo,
+                                     std::uint64_t span, std::vector<CandidatePair>& out) const {
   const float *lo0 = slot_box_[0].data(), *lo1 = slot_box_[1].data(), *lo2 = slot_box_[2].data();
   const float *hi0 = slot_box_[3].data(), *hi1 = slot_box_[4].data(), *hi2 = slot_box_[5].data();
   const float a_lo0 = lo0[k], a_lo1 = lo1[k], a_lo2 = lo2[k], a_hi0 = hi0[k], a_hi1 = hi1[k], a_hi2 = hi2[k];

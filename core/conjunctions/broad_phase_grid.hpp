@@ -84,7 +84,6 @@ struct CandidatePair {
   std::uint32_t i, j;
 };
 
-
 class BroadPhaseGrid {
  public:
   // The escape speed at the Earth's surface [m/s]: no bound orbit above the surface is faster.
@@ -171,7 +170,7 @@ class BroadPhaseGrid {
   int coarse_bits_ = 0, fine_bits_ = 0;
   std::size_t prepared_threads_ = 0;
   std::size_t slots_in_grid_ = 0;
-  std::vector<GridBox> box_;                   // per object (population index)
+  std::vector<GridBox> box_;  // per object (population index)
   // Per slot (bucket order): the boxes axis by axis (lower x, y, z, upper x, y, z), each padded by
   // kLanes entries so the walk's last group of lanes reads inside the array; keys; crossing bits;
   // population indices.

@@ -27,7 +27,9 @@ struct alignas(64) HermiteHull {
 };
 
 // The bound of the rounding of a hull whose largest coordinate magnitude is max_abs_m.
-inline float hull_slack_m(double max_abs_m) { return static_cast<float>(max_abs_m * 0x1p-23 * 1.0001); }
+inline float hull_slack_m(double max_abs_m) {
+  return static_cast<float>(max_abs_m * 0x1p-23 * 1.0001);
+}
 
 // False only when objects a and b cannot come within share_a + share_b of each other during the step.
 inline bool hulls_may_come_within(const HermiteHull& a, const HermiteHull& b) {
@@ -58,7 +60,8 @@ inline bool hulls_may_come_within(const HermiteHull& a, const HermiteHull& b) {
     const double w = c[0][k] + s * u[k];
     chord2 += w * w;
   }
-  const double reach2 = threshold + 0.75 * std::sqrt(std::max(e1, e2)) + 1.7320508075688772 * sigma + kMargin_m;
+  const double reach2 =
+      threshold + 0.75 * std::sqrt(std::max(e1, e2)) + 1.7320508075688772 * sigma + kMargin_m;
   return chord2 <= reach2 * reach2 * (1.0 + 1e-9);
 }
 

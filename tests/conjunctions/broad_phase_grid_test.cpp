@@ -1,7 +1,7 @@
 // The broad phase against an all-pairs test of the same swept boxes: the grid (with its exact pruning
 // of neighbour cells a box does not reach into) must yield every pair whose boxes overlap, each once,
-// and nothing whose boxes are apart by more than their rounding to floats, in dense populations, with tiny cells that clamp at the edge of
-// the cell range, and for any thread count.
+// and nothing whose boxes are apart by more than their rounding to floats, in dense populations, with tiny
+// cells that clamp at the edge of the cell range, and for any thread count.
 #include <gtest/gtest.h>
 
 #include <omp.h>
