@@ -101,16 +101,16 @@ void BroadPhaseGrid::prepare(std::size_t n, int threads) {
 }
 
 void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const ThresholdShare& share,
-                           double max_motion_m) {
+                           double max_motion_m, bool with_hulls) {
   const std::size_t n = step.start->size();
   const int threads = n >= kParallelMinimumObjects ? omp_get_max_threads() : 1;
   prepare(n, threads);
 #pragma omp parallel num_threads(threads)
-  build_in_team(step, motion, share, max_motion_m);
+  build_in_team(step, motion, share, max_motion_m, with_hulls);
 }
 
 void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, const ThresholdShare& share,
-                                   double max_motion_m) {
+                                   double max_motion_m, bool with_hulls) {
   const StateArrays& s0 = *step.start;
   const StateArrays& s1 = *step.end;
   const std::size_t n = s0.size();
@@ -196,6 +196,10 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   };
   if (hermite) {
     box_pass.template operator()<true>();
+  } else {
+    box_pass.template operator()<false>();
+  }
+  if (hermite && with_hulls) {
     // The hulls, in their own loop: their 64-byte stores would keep the box loop from vectorising.
     for (std::size_t i = begin; i < end; ++i) {
       const double c[4][3] = {
@@ -213,8 +217,6 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       hull.share_m = float_above(share(i));
       hull.slack_m = hull_slack_m(largest);
     }
-  } else {
-    box_pass.template operator()<false>();
   }
   my_oversized.clear();
   if (any_oversized)

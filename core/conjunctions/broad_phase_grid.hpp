@@ -51,7 +51,7 @@
 // the walk. Keys, crossing bits and the overlap test all use the same float corners, so the argument
 // above holds for them exactly.
 //
-// With Hermite motion the box pass also writes each object's hull (hermite_hull.hpp): the single-
+// With Hermite motion the build can also write each object's hull (hermite_hull.hpp): the single-
 // precision Bezier control points on which the narrow phase's cheap filters run first, reading one
 // cache line per object instead of twelve state arrays. In dense populations most pairs whose boxes
 // overlap cross them at different times, and the hulls rule them out.
@@ -101,15 +101,16 @@ class BroadPhaseGrid {
   // motion spans more than max_motion_m along an axis (or is not finite) are oversized: kept out of the
   // grid (see above).
   void build_in_team(const StepEnds& step, NarrowPhase motion, const ThresholdShare& share,
-                     double max_motion_m);
+                     double max_motion_m, bool with_hulls = false);
   // The same with a team of its own (call outside any parallel region).
-  void build(const StepEnds& step, NarrowPhase motion, const ThresholdShare& share, double max_motion_m);
+  void build(const StepEnds& step, NarrowPhase motion, const ThresholdShare& share, double max_motion_m,
+             bool with_hulls = false);
 
   // Number of slots (objects in bucket order); pairs are enumerated per slot range so threads can split
   // the work. Appends each candidate pair (boxes overlap) whose first member is in [slot_begin, slot_end).
   std::size_t slot_count() const { return slots_in_grid_; }
   void collect_pairs(std::size_t slot_begin, std::size_t slot_end, std::vector<CandidatePair>& out) const;
-  // With Hermite motion: an object's hull (by population index) as of the last build.
+  // An object's hull (by population index) as of the last build with_hulls (Hermite motion only).
   const HermiteHull& hull(std::size_t i) const { return hull_[i]; }
 
   // The oversized objects: pairs of oversized object number [begin, end) with every other object

@@ -88,6 +88,7 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
   const double max_motion_m = BroadPhaseGrid::cutoff_bound_m(step.dt_s, 0.0) + 1e-3;
 
   const int threads = n >= kParallelMinimumObjects ? omp_get_max_threads() : 1;
+  const bool use_hulls = use_hulls_;
   grid_.prepare(n, threads);
   candidates_.resize(static_cast<std::size_t>(threads));
   events_.resize(static_cast<std::size_t>(threads));
@@ -99,7 +100,7 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
     // candidate pairs into its own compact array and runs the narrow phase on them, with no barrier.
 #pragma omp parallel num_threads(threads)
   {
-    grid_.build_in_team(step, settings_.narrow_phase, share, max_motion_m);
+    grid_.build_in_team(step, settings_.narrow_phase, share, max_motion_m, use_hulls);
     const std::size_t slots = grid_.slot_count();
     const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
     std::vector<CandidatePair>& mine = candidates_[t];
@@ -117,7 +118,7 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
       grid_.collect_oversized_pairs(static_cast<std::size_t>(o), static_cast<std::size_t>(o) + 1, mine);
     collected_at_[t] = omp_get_wtime();
     std::vector<Encounter>& found = events_[t];
-    if (settings_.narrow_phase == NarrowPhase::kHermite) {
+    if (use_hulls) {
       // The hulls first (one cache line per object, at two random places in memory: ask for a pair's
       // hulls a few pairs ahead so their loads overlap); the states only for pairs they keep.
       constexpr std::size_t kAhead = 8;
@@ -149,6 +150,10 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
   last_grid_s_ = t_grid - t_begin;
   last_narrow_s_ = t_end - t_grid;
   last_candidate_pairs_ = pairs;
+  // Writing the hulls costs about as much as gathering the states of 0.3 candidate pairs per object.
+  constexpr double kHullsFromPairsPerObject = 0.3;
+  use_hulls_ = settings_.narrow_phase == NarrowPhase::kHermite &&
+               static_cast<double>(pairs) >= kHullsFromPairsPerObject * static_cast<double>(n);
 }
 
 void ConjunctionDetector::examine_pair(const Population& population, const StepEnds& step, std::size_t i,

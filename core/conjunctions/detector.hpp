@@ -39,6 +39,9 @@ class ConjunctionDetector {
   double last_grid_s_ = 0.0;
   double last_narrow_s_ = 0.0;
   std::size_t last_candidate_pairs_ = 0;
+  // Whether the next scan tests candidates on hulls first: worth it where candidate pairs are many per
+  // object (dense populations, long steps), decided from the last scan. Results never depend on it.
+  bool use_hulls_ = false;
 
   // Narrow phase of one candidate pair (population indices); appends its encounters.
   void examine_pair(const Population& population, const StepEnds& step, std::size_t i, std::size_t j,
