@@ -340,7 +340,7 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, std::size_t first, std::size
     for (std::size_t m = first; m < last; ++m) {
       const bool overlap = (a_lo0 <= hi0[m]) & (lo0[m] <= a_hi0) & (a_lo1 <= hi1[m]) & (lo1[m] <= a_hi1) &
                            (a_lo2 <= hi2[m]) & (lo2[m] <= a_hi2);
-      if (overlap && slot_key_[m] - key_lo <= span)
+      if (overlap & (slot_key_[m] - key_lo <= span))  // one branch: both outcomes are hard to predict
         out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
     }
     return;
