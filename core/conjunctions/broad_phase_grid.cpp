@@ -201,22 +201,8 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   }
   if (hermite && with_hulls) {
     // The hulls, in their own loop: their 64-byte stores would keep the box loop from vectorising.
-    for (std::size_t i = begin; i < end; ++i) {
-      const double c[4][3] = {
-          {s0.x[i], s0.y[i], s0.z[i]},
-          {s0.x[i] + reach * s0.vx[i], s0.y[i] + reach * s0.vy[i], s0.z[i] + reach * s0.vz[i]},
-          {s1.x[i] - reach * s1.vx[i], s1.y[i] - reach * s1.vy[i], s1.z[i] - reach * s1.vz[i]},
-          {s1.x[i], s1.y[i], s1.z[i]}};
-      HermiteHull& hull = hulls[i];
-      double largest = 0.0;
-      for (int p = 0; p < 4; ++p)
-        for (int k = 0; k < 3; ++k) {
-          hull.point[p][k] = static_cast<float>(c[p][k]);
-          largest = std::max(largest, std::fabs(c[p][k]));
-        }
-      hull.share_m = float_above(share(i));
-      hull.slack_m = hull_slack_m(largest);
-    }
+    for (std::size_t i = begin; i < end; ++i)
+      hulls[i] = hermite_hull(gather_object_step(s0, s1, i), dt, share(i));
   }
   my_oversized.clear();
   if (any_oversized)

@@ -18,6 +18,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/conjunctions/object_step.hpp"
+
 namespace kessler {
 
 struct alignas(64) HermiteHull {
@@ -29,6 +31,24 @@ struct alignas(64) HermiteHull {
 // The bound of the rounding of a hull whose largest coordinate magnitude is max_abs_m.
 inline float hull_slack_m(double max_abs_m) {
   return static_cast<float>(max_abs_m * 0x1p-23 * 1.0001);
+}
+
+// The hull of one object's step of dt_s with threshold share share_m.
+inline HermiteHull hermite_hull(const ObjectStep& o, double dt_s, double share_m) {
+  const double reach = dt_s / 3.0;
+  HermiteHull hull;
+  double largest = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double c[4] = {o.p0[k], o.p0[k] + reach * o.v0[k], o.p1[k] - reach * o.v1[k], o.p1[k]};
+    for (int p = 0; p < 4; ++p) {
+      hull.point[p][k] = static_cast<float>(c[p]);
+      largest = std::max(largest, std::fabs(c[p]));
+    }
+  }
+  // Rounded up: moved out by 2^-22 before rounding to nearest (as the grid's float boxes).
+  hull.share_m = static_cast<float>(share_m + share_m * 0x1p-22);
+  hull.slack_m = hull_slack_m(largest);
+  return hull;
 }
 
 // False only when objects a and b cannot come within share_a + share_b of each other during the step.

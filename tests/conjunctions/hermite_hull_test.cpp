@@ -12,22 +12,6 @@
 namespace kessler {
 namespace {
 
-// The hull as the broad phase writes it (broad_phase_grid.cpp), written out here from its definition.
-HermiteHull hull_of(const ObjectStep& o, double dt, double share_m) {
-  HermiteHull h;
-  double largest = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    const double c[4] = {o.p0[k], o.p0[k] + dt / 3.0 * o.v0[k], o.p1[k] - dt / 3.0 * o.v1[k], o.p1[k]};
-    for (int p = 0; p < 4; ++p) {
-      h.point[p][k] = static_cast<float>(c[p]);
-      largest = std::max(largest, std::fabs(c[p]));
-    }
-  }
-  h.share_m = std::nextafter(static_cast<float>(share_m), INFINITY);
-  h.slack_m = hull_slack_m(largest);
-  return h;
-}
-
 // A straight-ish arc: start state, and the end state a step later under a constant acceleration.
 ObjectStep arc(const double p[3], const double v[3], const double a[3], double dt) {
   ObjectStep o;
@@ -78,7 +62,7 @@ Tally run_pairs(double radius_m, double dt, double threshold_m, unsigned seed) {
     PairMinimum minima[kMaxMinimaPerStep];
     const int found = hermite_minima(a, b, dt, threshold_m, minima);
     const bool kept =
-        hulls_may_come_within(hull_of(a, dt, 0.5 * threshold_m), hull_of(b, dt, 0.5 * threshold_m));
+        hulls_may_come_within(hermite_hull(a, dt, 0.5 * threshold_m), hermite_hull(b, dt, 0.5 * threshold_m));
     if (found > 0) {
       ++tally.reported;
       EXPECT_TRUE(kept) << "dropped a reported pair: trial " << trial << ", distance "
