@@ -8,6 +8,10 @@
 
 #include <omp.h>
 
+#ifdef __AVX512F__
+#include <immintrin.h>
+#endif
+
 namespace kessler {
 namespace {
 
@@ -93,7 +97,7 @@ void BroadPhaseGrid::prepare(std::size_t n, int threads) {
   bucket_start_.resize(buckets + 1);
   occupied_.resize(buckets / 64);
   coarse_count_.resize(team * partitions);
-  cursor_.resize(team * partitions);
+  group_start_.resize(team * partitions);
   thread_oversized_.resize(team);
   thread_edge_.resize(team);
   partition_start_.resize(partitions + 1);
@@ -139,6 +143,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       const std::uint64_t cx = axis_cell(box.lo[0], inverse_cell), cy = axis_cell(box.lo[1], inverse_cell),
                           cz = axis_cell(box.lo[2], inverse_cell);
       box.key = (cx << (2 * kAxisBits)) | (cy << kAxisBits) | cz;
+      box.index = static_cast<std::uint32_t>(i);
       // Monotone cells: a box whose upper corner is in its lower corner's cell along an axis lies below
       // every lower corner of a later cell on that axis.
       box.crosses = (axis_cell(box.hi[0], inverse_cell) != cx ? 1u : 0u) |
@@ -201,8 +206,18 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   }
   if (hermite && with_hulls) {
     // The hulls, in their own loop: their 64-byte stores would keep the box loop from vectorising.
+    // Streaming stores: the hulls are read once, by whichever thread meets the pair, so they need not
+    // pass through this core's cache (nor be fetched into it before being overwritten).
+#ifdef __AVX512F__
+    for (std::size_t i = begin; i < end; ++i) {
+      const HermiteHull hull = hermite_hull(gather_object_step(s0, s1, i), dt, share(i));
+      _mm512_stream_si512(reinterpret_cast<__m512i*>(&hulls[i]), _mm512_load_si512(&hull));
+    }
+    _mm_sfence();  // visible to the other threads before the barrier lets them read
+#else
     for (std::size_t i = begin; i < end; ++i)
       hulls[i] = hermite_hull(gather_object_step(s0, s1, i), dt, share(i));
+#endif
   }
   my_oversized.clear();
   if (any_oversized)
@@ -223,20 +238,22 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
 #pragma omp barrier
   }
 
-  // Layout: partitions in order, each thread's chunk in order inside a partition. Every thread reads
-  // all counts and computes its own cursors (no serial section); thread 0 also records the starts.
-  std::uint32_t* cursors = &cursor_[t * partitions];
-  std::uint32_t running = 0;
-  for (std::size_t p = 0; p < partitions; ++p) {
-    if (t == 0) partition_start_[p] = running;
-    for (std::size_t u = 0; u < threads; ++u) {
-      if (u == t) cursors[p] = running;
-      running += coarse_count_[u * partitions + p];
+  // Slots: partitions in order, inside a partition the threads' groups in thread order (so population
+  // order within each bucket, whatever the thread count). Every thread reads all counts and computes
+  // the layout itself (no serial section).
+  const std::size_t p_begin = partitions * t / threads, p_end = partitions * (t + 1) / threads;
+  {
+    std::uint32_t running = 0;
+    for (std::size_t p = 0; p < partitions; ++p) {
+      if (p >= p_begin && p < p_end) partition_start_[p] = running;  // each thread writes its own
+      for (std::size_t u = 0; u < threads; ++u) running += coarse_count_[u * partitions + p];
+    }
+    if (t + 1 == threads) {
+      partition_start_[partitions] = running;
+      bucket_start_[buckets] = running;
     }
   }
   if (t == 0) {
-    partition_start_[partitions] = running;
-    bucket_start_[buckets] = running;
     cell_size_m_ = cell;
     ++builds_;
     if (!fits) ++rekeyed_builds_;
@@ -244,14 +261,23 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     const double needed = std::max(largest, 1.0) * (1.0 + kCellMargin);
     next_cell_m_ = (fits && cell <= needed * kCellShrinkRatio) ? cell : needed;
   }
-  // (bucket, index) pairs, so the partition sort counts from a sequential read.
-  for (std::size_t i = begin; i < end; ++i)
-    if (!oversized_flag_[i]) {
-      const std::uint64_t b = bucket_of(box_[i].key);
-      scratch_[cursors[b >> fine_bits_]++] = (b << 32) | i;
+  // Coarse scatter of this thread's boxes into its own region of scratch_ (regions in thread order),
+  // grouped by partition: whole records, read back in sequence by the partition's sorter.
+  {
+    std::uint32_t at = 0;
+    for (std::size_t u = 0; u < t; ++u)
+      for (std::size_t p = 0; p < partitions; ++p) at += coarse_count_[u * partitions + p];
+    std::uint32_t* group = &group_start_[t * partitions];
+    std::uint32_t cursor[std::size_t{1} << kMaxCoarseBits];
+    for (std::size_t p = 0; p < partitions; ++p) {
+      group[p] = cursor[p] = at;
+      at += counts[p];
     }
+    for (std::size_t i = begin; i < end; ++i)
+      if (!oversized_flag_[i]) scratch_[cursor[bucket_of(box_[i].key) >> fine_bits_]++] = box_[i];
+  }
 #pragma omp barrier
-    // The oversized objects in population order (the chunks are in order).
+  // The oversized objects in population order (the chunks are in order).
 #pragma omp single nowait
   {
     oversized_.clear();
@@ -259,44 +285,48 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       oversized_.insert(oversized_.end(), thread_oversized_[u].begin(), thread_oversized_[u].end());
     slots_in_grid_ = n - oversized_.size();
   }
-  // Each coarse partition sorted by its fine buckets on its own (stable: population order inside a
-  // bucket, whatever the thread count). The loop's closing barrier completes the grid.
-#pragma omp for schedule(dynamic, 1)
-  for (std::int64_t pp = 0; pp < static_cast<std::int64_t>(partitions); ++pp) {
-    const std::size_t p = static_cast<std::size_t>(pp);
+  // Each thread sorts a contiguous run of partitions by fine bucket (stable), so the slot arrays'
+  // lines are written by one thread each (no line shared but at the run's two ends).
+  for (std::size_t p = p_begin; p < p_end; ++p) {
     const std::size_t first_bucket = p * fine_buckets;
     std::uint32_t* starts = &bucket_start_[first_bucket];
     std::fill(starts, starts + fine_buckets, 0u);
     std::fill(&occupied_[first_bucket / 64], &occupied_[first_bucket / 64] + fine_buckets / 64, 0ull);
-    const std::uint32_t lo = partition_start_[p], hi = partition_start_[p + 1];
-    for (std::uint32_t m = lo; m < hi; ++m) {
-      const std::size_t b = static_cast<std::size_t>(scratch_[m] >> 32);
-      ++starts[b - first_bucket];
-      occupied_[b >> 6] |= std::uint64_t{1} << (b & 63);
+    for (std::size_t u = 0; u < threads; ++u) {
+      const GridBox* group = &scratch_[group_start_[u * partitions + p]];
+      const std::uint32_t count = coarse_count_[u * partitions + p];
+      for (std::uint32_t m = 0; m < count; ++m) {
+        const std::size_t b = bucket_of(group[m].key);
+        ++starts[b - first_bucket];
+        occupied_[b >> 6] |= std::uint64_t{1} << (b & 63);
+      }
     }
-    std::uint32_t start = lo;
+    std::uint32_t start = partition_start_[p];
     for (std::size_t f = 0; f < fine_buckets; ++f) {
       const std::uint32_t c = starts[f];
       starts[f] = start;
       start += c;
     }
-    // Scatter the boxes, keys and indices with the starts as cursors, then shift the starts back.
-    for (std::uint32_t m = lo; m < hi; ++m) {
-      const std::size_t b = static_cast<std::size_t>(scratch_[m] >> 32);
-      const std::size_t i = scratch_[m] & 0xFFFFFFFFu;
-      const std::uint32_t k = starts[b - first_bucket]++;
-      const GridBox& box = box_[i];
-      for (int axis = 0; axis < 3; ++axis) {
-        slot_box_[axis][k] = box.lo[axis];
-        slot_box_[3 + axis][k] = box.hi[axis];
+    // Scatter with the starts as cursors, then shift the starts back.
+    for (std::size_t u = 0; u < threads; ++u) {
+      const GridBox* group = &scratch_[group_start_[u * partitions + p]];
+      const std::uint32_t count = coarse_count_[u * partitions + p];
+      for (std::uint32_t m = 0; m < count; ++m) {
+        const GridBox& box = group[m];
+        const std::uint32_t k = starts[bucket_of(box.key) - first_bucket]++;
+        for (int axis = 0; axis < 3; ++axis) {
+          slot_box_[axis][k] = box.lo[axis];
+          slot_box_[3 + axis][k] = box.hi[axis];
+        }
+        slot_key_[k] = box.key;
+        slot_crosses_[k] = static_cast<std::uint8_t>(box.crosses);
+        slot_index_[k] = box.index;
       }
-      slot_key_[k] = box.key;
-      slot_crosses_[k] = static_cast<std::uint8_t>(box.crosses);
-      slot_index_[k] = static_cast<std::uint32_t>(i);
     }
     for (std::size_t f = fine_buckets; f-- > 1;) starts[f] = starts[f - 1];
-    starts[0] = lo;
+    starts[0] = partition_start_[p];
   }
+#pragma omp barrier
 }
 
 void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,

@@ -152,13 +152,15 @@ class BroadPhaseGrid {
   static constexpr int kRowShift = 21;
   static constexpr std::uint64_t kZMask = (std::uint64_t{1} << kRowShift) - 1;
 
-  // One object's grown box (rounded outwards to floats) and cell key.
+  // One object's grown box (rounded outwards to floats), cell key and population index: 40 bytes, and
+  // the whole record the sort moves, so sorting never reads another thread's boxes at random.
   struct GridBox {
     float lo[3], hi[3];
     // Which axes the box crosses into the next cell on (bit 0: x, 1: y, 2: z). A box that stays in its
     // cell along an axis cannot overlap a box whose lower corner lies in a later cell on that axis, so
     // the walk skips those forward neighbours (exact: the same candidates, fewer cells visited).
     std::uint32_t crosses;
+    std::uint32_t index;
     std::uint64_t key;
   };
 
@@ -185,9 +187,11 @@ class BroadPhaseGrid {
   std::vector<std::uint32_t> oversized_;     // population indices, ascending
   std::vector<std::uint32_t> bucket_start_;  // size buckets + 1
   std::vector<std::uint64_t> occupied_;      // one bit per bucket
-  // Counting-sort scratch.
-  std::vector<std::uint64_t> scratch_;  // (bucket << 32) | index, in coarse partitions
-  std::vector<std::uint32_t> coarse_count_, cursor_, partition_start_;
+  // Counting-sort scratch: each thread's boxes grouped by coarse partition, in its own region (thread
+  // by thread), so the scatter writes no cache line another thread writes.
+  std::vector<GridBox> scratch_;
+  // Per thread and partition: its count and where its group starts in scratch_.
+  std::vector<std::uint32_t> coarse_count_, group_start_, partition_start_;
   std::vector<std::vector<std::uint32_t>> thread_oversized_;
   std::vector<double> thread_edge_;  // per thread: the largest box edge of its chunk
 };

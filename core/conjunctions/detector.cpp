@@ -90,20 +90,21 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
   const int threads = n >= kParallelMinimumObjects ? omp_get_max_threads() : 1;
   const bool use_hulls = use_hulls_;
   grid_.prepare(n, threads);
-  candidates_.resize(static_cast<std::size_t>(threads));
-  events_.resize(static_cast<std::size_t>(threads));
-  collected_at_.assign(static_cast<std::size_t>(threads), t_begin);
+  per_thread_.resize(static_cast<std::size_t>(threads));
   // Cleared here: OpenMP may give the region fewer threads than asked for.
-  for (auto& list : candidates_) list.clear();
-  for (auto& list : events_) list.clear();
-    // One region per step: the grid (three barriers inside), then each thread collects its share of
-    // candidate pairs into its own compact array and runs the narrow phase on them, with no barrier.
+  for (ThreadLists& lists : per_thread_) {
+    lists.candidates.clear();
+    lists.events.clear();
+    lists.collected_at = t_begin;
+  }
+  // One region per step: the grid (three barriers inside), then each thread collects its share of
+  // candidate pairs into its own compact array and runs the narrow phase on them, with no barrier.
 #pragma omp parallel num_threads(threads)
   {
     grid_.build_in_team(step, settings_.narrow_phase, share, max_motion_m, use_hulls);
     const std::size_t slots = grid_.slot_count();
     const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
-    std::vector<CandidatePair>& mine = candidates_[t];
+    std::vector<CandidatePair>& mine = per_thread_[t].candidates;
     // Slot blocks handed out dynamically: dense regions of the sky cost more.
     constexpr std::int64_t kBlock = 256;
     const std::int64_t blocks = static_cast<std::int64_t>((slots + kBlock - 1) / kBlock);
@@ -113,11 +114,11 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
       grid_.collect_pairs(begin, std::min(slots, begin + static_cast<std::size_t>(kBlock)), mine);
     }
     const std::int64_t oversized = static_cast<std::int64_t>(grid_.oversized_count());
-#pragma omp for schedule(dynamic, 1) nowait
+#pragma omp for schedule(dynamic, 4) nowait
     for (std::int64_t o = 0; o < oversized; ++o)
       grid_.collect_oversized_pairs(static_cast<std::size_t>(o), static_cast<std::size_t>(o) + 1, mine);
-    collected_at_[t] = omp_get_wtime();
-    std::vector<Encounter>& found = events_[t];
+    per_thread_[t].collected_at = omp_get_wtime();
+    std::vector<Encounter>& found = per_thread_[t].events;
     if (use_hulls) {
       // The hulls first (one cache line per object, at two random places in memory: ask for a pair's
       // hulls a few pairs ahead so their loads overlap); the states only for pairs they keep.
@@ -134,26 +135,29 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
       for (const CandidatePair& pair : mine) examine_pair(population, step, pair.i, pair.j, found);
     }
   }
-  const double t_grid = *std::max_element(collected_at_.begin(), collected_at_.end());
+  double t_grid = t_begin;
   std::size_t total = 0, pairs = 0;
-  for (int t = 0; t < threads; ++t) {
-    total += events_[static_cast<std::size_t>(t)].size();
-    pairs += candidates_[static_cast<std::size_t>(t)].size();
+  for (const ThreadLists& lists : per_thread_) {
+    t_grid = std::max(t_grid, lists.collected_at);
+    total += lists.events.size();
+    pairs += lists.candidates.size();
   }
   const std::size_t first = out.size();
   out.reserve(first + total);
-  for (int t = 0; t < threads; ++t)
-    out.insert(out.end(), events_[static_cast<std::size_t>(t)].begin(),
-               events_[static_cast<std::size_t>(t)].end());
+  for (const ThreadLists& lists : per_thread_)
+    out.insert(out.end(), lists.events.begin(), lists.events.end());
   std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(), canonical_less);
   const double t_end = omp_get_wtime();
   last_grid_s_ = t_grid - t_begin;
   last_narrow_s_ = t_end - t_grid;
   last_candidate_pairs_ = pairs;
-  // Writing the hulls costs about as much as gathering the states of 0.3 candidate pairs per object.
+  // Writing the hulls costs about as much as gathering the states of 0.3 candidate pairs per object on
+  // one thread. With more, most gathers read states another core has just written (several times
+  // dearer), and the hulls pay from fewer pairs: 0.3 per object over the thread count.
   constexpr double kHullsFromPairsPerObject = 0.3;
+  const double hulls_from = kHullsFromPairsPerObject / static_cast<double>(threads);
   use_hulls_ = settings_.narrow_phase == NarrowPhase::kHermite &&
-               static_cast<double>(pairs) >= kHullsFromPairsPerObject * static_cast<double>(n);
+               static_cast<double>(pairs) >= hulls_from * static_cast<double>(n);
 }
 
 void ConjunctionDetector::examine_pair(const Population& population, const StepEnds& step, std::size_t i,

@@ -49,9 +49,14 @@ class ConjunctionDetector {
 
   // Scratch kept between scans so a step allocates nothing once warm.
   BroadPhaseGrid grid_;
-  std::vector<std::vector<CandidatePair>> candidates_;  // per thread
-  std::vector<std::vector<Encounter>> events_;          // per thread
-  std::vector<double> collected_at_;                    // per thread: when its candidates were complete
+  // One thread's lists, a cache line of its own: each push_back writes the vector's end pointer, and
+  // two threads' pointers on one line would pass that line between their cores on every pair.
+  struct alignas(64) ThreadLists {
+    std::vector<CandidatePair> candidates;
+    std::vector<Encounter> events;
+    double collected_at = 0.0;  // when its candidates were complete
+  };
+  std::vector<ThreadLists> per_thread_;
 };
 
 }  // namespace kessler

@@ -22,8 +22,10 @@ std::vector<BurnUp> find_burn_ups(const Population& population, double min_altit
   // test compares squared radii (no square root per object); r^2 >= (R + h)^2 is r >= R + h for r >= 0.
   const double min_radius_m = constants::kEarthEquatorialRadius_m + min_altitude_m;
   const double min_radius2 = min_radius_m > 0.0 ? min_radius_m * min_radius_m : 0.0;
-  // A team of one below 100,000 objects (not an `if` clause, which GCC runs unvectorised).
-  const int threads = n >= 100000 ? omp_get_max_threads() : 1;
+  // Each thread flags the chunk it propagated (the same static split), so no core reads positions
+  // another core has just written. A team of one for tiny populations (not an `if` clause, which GCC
+  // runs unvectorised).
+  const int threads = n >= 512 ? omp_get_max_threads() : 1;
 #pragma omp parallel for simd schedule(static) num_threads(threads)
   for (long i = 0; i < static_cast<long>(n); ++i)
     flag[i] = !(x[i] * x[i] + y[i] * y[i] + z[i] * z[i] >= min_radius2);  // a NaN state also leaves

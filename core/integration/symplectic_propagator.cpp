@@ -9,6 +9,7 @@
 #include "core/physics/constants.hpp"
 
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -151,10 +152,24 @@ void SymplecticPropagator::advance(Population& population, double t_start_s, dou
   const double low_radius_m = constants::kEarthEquatorialRadius_m + kLowAltitude_m;
   const double low_radius2 = low_radius_m * low_radius_m;
   low_.clear();
-  if (model_.settings().drag)
-    for (std::size_t i = 0; i < n; ++i)
-      if (st.x[i] * st.x[i] + st.y[i] * st.y[i] + st.z[i] * st.z[i] < low_radius2)
-        low_.push_back(static_cast<std::uint32_t>(i));
+  if (model_.settings().drag) {
+    // Flagged by the threads that propagate the same chunks (a serial scan would read every other
+    // core's freshly written positions, and those cores would then pay to write them again), then
+    // listed in population order from one byte per object.
+    low_flag_.resize(n);
+    const double* __restrict x = st.x.data();
+    const double* __restrict y = st.y.data();
+    const double* __restrict z = st.z.data();
+    char* __restrict flag = low_flag_.data();
+    const long count = static_cast<long>(n);
+#pragma omp parallel for simd schedule(static) num_threads(count >= 512 ? threads : 1)
+    for (long i = 0; i < count; ++i) flag[i] = x[i] * x[i] + y[i] * y[i] + z[i] * z[i] < low_radius2;
+    for (const char* p = flag; (p = static_cast<const char*>(std::memchr(p, 1, n - (p - flag)))) != nullptr;
+         ++p) {
+      low_.push_back(static_cast<std::uint32_t>(p - flag));
+      if (p - flag + 1 == count) break;
+    }
+  }
   if (!low_.empty()) {
     const std::size_t m = low_.size();
     low_state_.resize(8 * m);

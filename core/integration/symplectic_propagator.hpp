@@ -84,6 +84,7 @@ class SymplecticPropagator final : public Propagator {
   Composition composition_;
   int threads_ = 0;
   std::vector<std::uint32_t> low_;  // objects sub-stepped in this step
+  std::vector<char> low_flag_;      // per object: starts this step low
   std::vector<double> low_state_;   // their states and area-to-mass ratios, 8 arrays of low_.size()
 };
 
