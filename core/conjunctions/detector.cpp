@@ -114,7 +114,7 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
       grid_.collect_pairs(begin, std::min(slots, begin + static_cast<std::size_t>(kBlock)), mine);
     }
     const std::int64_t oversized = static_cast<std::int64_t>(grid_.oversized_count());
-#pragma omp for schedule(dynamic, 4) nowait
+#pragma omp for schedule(dynamic, 1) nowait
     for (std::int64_t o = 0; o < oversized; ++o)
       grid_.collect_oversized_pairs(static_cast<std::size_t>(o), static_cast<std::size_t>(o) + 1, mine);
     per_thread_[t].collected_at = omp_get_wtime();
