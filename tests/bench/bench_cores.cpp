@@ -1,0 +1,109 @@
+// kessler-bench cores: what a cache line costs when it changes cores, between threads 0 and 1.
+// A step rewrites the whole grid, so 2-thread figures depend on this far more than on the work; on a VM
+// the host may place the two virtual cores on one shared cache or far apart, and the figure changes
+// with the placement (minutes apart on the development machine: 0.9 vs 3.5 ns per line read). Run it
+// beside any 2-thread measurement.
+//   --lines N (default 16384: 1 MiB)  --repeats R (default 10)
+#include <omp.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <numeric>
+#include <random>
+#include <vector>
+
+#include "tests/bench/bench.hpp"
+
+namespace kessler::bench {
+namespace {
+
+// One 64-byte line.
+struct alignas(64) Line {
+  std::uint64_t word[8];
+};
+
+int bench_cores(int argc, char** argv) {
+  Args args(argc, argv);
+  args.allow_only({"--lines", "--repeats"});
+  const auto lines = static_cast<std::size_t>(args.get_int("--lines", 16384));
+  const int repeats = static_cast<int>(args.get_int("--repeats", 10));
+  if (lines < 64 || repeats < 1) {
+    std::fprintf(stderr, "kessler-bench cores: --lines must be >= 64 and --repeats >= 1\n");
+    return 2;
+  }
+  std::vector<Line> data(lines);
+  std::vector<std::uint32_t> order(lines);
+  std::iota(order.begin(), order.end(), 0u);
+  std::shuffle(order.begin(), order.end(), std::mt19937(12345));
+
+  // Per repeat: the writer fills every line, then thread 0 reads them in random order (independent
+  // loads, as a walk over neighbour cells does) or writes them in sequence after thread 1 has read
+  // them (as the next step's sort does).
+  enum Case { kReadOwn, kReadOther, kWritePrivate, kWriteShared, kCases };
+  std::vector<double> seconds[kCases];
+  std::uint64_t sink = 0;
+  int team = 0;
+  for (int rep = 0; rep < repeats; ++rep) {
+    for (int c = 0; c < kCases; ++c) {
+      double elapsed = 0.0;
+#pragma omp parallel num_threads(2) reduction(+ : sink)
+      {
+        const int t = omp_get_thread_num();
+#pragma omp single
+        team = omp_get_num_threads();
+        const int writer = c == kReadOther ? 1 : 0;
+        if (t == writer)
+          for (std::size_t i = 0; i < lines; ++i) data[i].word[0] = i + static_cast<std::size_t>(rep);
+#pragma omp barrier
+        if (c == kWriteShared && t == 1)
+          for (std::size_t i = 0; i < lines; ++i) sink += data[i].word[0];
+#pragma omp barrier
+        if (t == 0) {
+          const double t0 = omp_get_wtime();
+          if (c == kReadOwn || c == kReadOther) {
+            std::uint64_t sum = 0;
+            for (std::size_t i = 0; i < lines; ++i) sum += data[order[i]].word[0];
+            sink += sum;
+          } else {
+            for (std::size_t i = 0; i < lines; ++i) data[i].word[0] = i;
+          }
+          elapsed = omp_get_wtime() - t0;
+        }
+      }
+      seconds[c].push_back(elapsed);
+    }
+  }
+  if (team < 2) {
+    std::fprintf(stderr, "kessler-bench cores: needs 2 threads, OpenMP gave %d\n", team);
+    return 1;
+  }
+  auto ns_per_line = [&](Case c) { return 1e9 * median(seconds[c]) / static_cast<double>(lines); };
+  const double read_own = ns_per_line(kReadOwn), read_other = ns_per_line(kReadOther);
+  const double write_private = ns_per_line(kWritePrivate), write_shared = ns_per_line(kWriteShared);
+  std::printf(
+      "cores: %zu lines, medians of %d: random read %.2f ns/line (own) vs %.2f (written by the other "
+      "core): %.1fx; sequential write %.2f (private) vs %.2f (read by the other core): %.1fx\n",
+      lines, repeats, read_own, read_other, read_other / read_own, write_private, write_shared,
+      write_shared / write_private);
+  JsonLine()
+      .add("benchmark", std::string("cores"))
+      .add("lines", static_cast<std::int64_t>(lines))
+      .add("repeats", static_cast<std::int64_t>(repeats))
+      .add("read_own_ns_per_line", read_own)
+      .add("read_other_ns_per_line", read_other)
+      .add("read_other_ratio", read_other / read_own)
+      .add("write_private_ns_per_line", write_private)
+      .add("write_shared_ns_per_line", write_shared)
+      .add("write_shared_ratio", write_shared / write_private)
+      .add("checksum", static_cast<std::int64_t>(sink & 0xFFFF))
+      .print();
+  return 0;
+}
+
+}  // namespace
+
+KESSLER_BENCH("cores", "cost of a cache line that changes cores (2 threads): read to judge 2-thread figures",
+              bench_cores);
+
+}  // namespace kessler::bench
