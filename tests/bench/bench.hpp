@@ -55,6 +55,21 @@ double now_s();
 // position scaled by 1 + 1e-6 k, so that no two objects coincide. `dir` holds the dataset's files.
 Population leo19647_repeated(const std::string& dir, std::size_t objects);
 
+// What a 64-byte line costs thread 0 of a 2-thread team [ns per line, medians]: read in random order
+// after thread 0 (own) or thread 1 (other) wrote it, and written in sequence with or without thread 1
+// having read it first. On a VM the host may place the two cores on a shared cache or far apart, and
+// 2-thread figures follow the placement (kessler-bench cores). `team` is the team OpenMP gave.
+struct CrossCoreCost {
+  double read_own_ns = 0.0, read_other_ns = 0.0, write_private_ns = 0.0, write_shared_ns = 0.0;
+  int team = 0;
+  double read_ratio() const { return read_other_ns / read_own_ns; }
+  double write_ratio() const { return write_shared_ns / write_private_ns; }
+};
+CrossCoreCost measure_cross_core(std::size_t lines, int repeats);
+// Adds that placement to a multi-threaded benchmark's line, measured after its timing (~50 ms):
+// "cross_core_read_ratio" and "cross_core_write_ratio" (other core over own; near ~1-2, far ~5-14).
+void add_cross_core(JsonLine& line);
+
 // CPU seconds of the whole process (all threads): unlike wall time, it does not count the time other
 // programs on a shared machine take the cores away.
 double process_cpu_s();

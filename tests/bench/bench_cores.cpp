@@ -23,15 +23,12 @@ struct alignas(64) Line {
   std::uint64_t word[8];
 };
 
-int bench_cores(int argc, char** argv) {
-  Args args(argc, argv);
-  args.allow_only({"--lines", "--repeats"});
-  const auto lines = static_cast<std::size_t>(args.get_int("--lines", 16384));
-  const int repeats = static_cast<int>(args.get_int("--repeats", 10));
-  if (lines < 64 || repeats < 1) {
-    std::fprintf(stderr, "kessler-bench cores: --lines must be >= 64 and --repeats >= 1\n");
-    return 2;
-  }
+// Where the reads' sum goes, so they are not optimised away.
+volatile std::uint64_t read_sink = 0;
+
+}  // namespace
+
+CrossCoreCost measure_cross_core(std::size_t lines, int repeats) {
   std::vector<Line> data(lines);
   std::vector<std::uint32_t> order(lines);
   std::iota(order.begin(), order.end(), 0u);
@@ -74,13 +71,41 @@ int bench_cores(int argc, char** argv) {
       seconds[c].push_back(elapsed);
     }
   }
-  if (team < 2) {
-    std::fprintf(stderr, "kessler-bench cores: needs 2 threads, OpenMP gave %d\n", team);
+  CrossCoreCost cost;
+  cost.team = team;
+  auto ns_per_line = [&](int c) { return 1e9 * median(seconds[c]) / static_cast<double>(lines); };
+  cost.read_own_ns = ns_per_line(kReadOwn);
+  cost.read_other_ns = ns_per_line(kReadOther);
+  cost.write_private_ns = ns_per_line(kWritePrivate);
+  cost.write_shared_ns = ns_per_line(kWriteShared);
+  read_sink = sink;
+  return cost;
+}
+
+void add_cross_core(JsonLine& line) {
+  const CrossCoreCost cost = measure_cross_core(16384, 5);
+  if (cost.team < 2) return;
+  line.add("cross_core_read_ratio", cost.read_ratio()).add("cross_core_write_ratio", cost.write_ratio());
+}
+
+namespace {
+
+int bench_cores(int argc, char** argv) {
+  Args args(argc, argv);
+  args.allow_only({"--lines", "--repeats"});
+  const auto lines = static_cast<std::size_t>(args.get_int("--lines", 16384));
+  const int repeats = static_cast<int>(args.get_int("--repeats", 10));
+  if (lines < 64 || repeats < 1) {
+    std::fprintf(stderr, "kessler-bench cores: --lines must be >= 64 and --repeats >= 1\n");
+    return 2;
+  }
+  const CrossCoreCost cost = measure_cross_core(lines, repeats);
+  if (cost.team < 2) {
+    std::fprintf(stderr, "kessler-bench cores: needs 2 threads, OpenMP gave %d\n", cost.team);
     return 1;
   }
-  auto ns_per_line = [&](Case c) { return 1e9 * median(seconds[c]) / static_cast<double>(lines); };
-  const double read_own = ns_per_line(kReadOwn), read_other = ns_per_line(kReadOther);
-  const double write_private = ns_per_line(kWritePrivate), write_shared = ns_per_line(kWriteShared);
+  const double read_own = cost.read_own_ns, read_other = cost.read_other_ns;
+  const double write_private = cost.write_private_ns, write_shared = cost.write_shared_ns;
   std::printf(
       "cores: %zu lines, medians of %d: random read %.2f ns/line (own) vs %.2f (written by the other "
       "core): %.1fx; sequential write %.2f (private) vs %.2f (read by the other core): %.1fx\n",
@@ -96,7 +121,6 @@ int bench_cores(int argc, char** argv) {
       .add("write_private_ns_per_line", write_private)
       .add("write_shared_ns_per_line", write_shared)
       .add("write_shared_ratio", write_shared / write_private)
-      .add("checksum", static_cast<std::int64_t>(sink & 0xFFFF))
       .print();
   return 0;
 }

@@ -1,7 +1,7 @@
 // The broad phase against an all-pairs test of the same swept boxes: the grid (with its exact pruning
 // of neighbour cells a box does not reach into) must yield every pair whose boxes overlap, each once,
 // and nothing whose boxes are apart by more than their rounding to floats, in dense populations, with tiny
-// cells that clamp at the edge of the cell range, and for any thread count.
+// cells that clamp at the edge of the cell range, and for any thread count (1, 2, 3, 4, 7).
 #include <gtest/gtest.h>
 
 #include <omp.h>
@@ -130,15 +130,21 @@ TEST(BroadPhaseGrid, CellCarriedBetweenStepsWhetherBoxesGrowOrShrink) {
   EXPECT_EQ(grid.builds(), 5u);
 }
 
-TEST(BroadPhaseGrid, SamePairsForOneTwoAndFourThreads) {
-  const StateArrays s = dense_population(3000, 4.0e5, 3);
+TEST(BroadPhaseGrid, SamePairsOnceForAnyThreadCount) {
+  // Each thread sorts a contiguous run of the coarse partitions. 3,000 objects on 7 threads have 8
+  // partitions (one thread sorts two); 1,200 objects have 4, so three of the 7 threads sort none.
   const int saved = omp_get_max_threads();
-  std::size_t listed = 0;
-  omp_set_num_threads(1);
-  const auto one = grid_pairs(s, 10.0, 500.0, listed);
-  for (int threads : {2, 4}) {
-    omp_set_num_threads(threads);
-    EXPECT_EQ(grid_pairs(s, 10.0, 500.0, listed), one) << threads << " threads";
+  for (const StateArrays& s : {dense_population(3000, 4.0e5, 3), dense_population(1200, 3.0e5, 5)}) {
+    std::size_t listed = 0;
+    omp_set_num_threads(1);
+    const auto one = grid_pairs(s, 10.0, 500.0, listed);
+    EXPECT_EQ(listed, one.size());
+    EXPECT_GT(one.size(), 100u);
+    for (int threads : {2, 3, 4, 7}) {
+      omp_set_num_threads(threads);
+      EXPECT_EQ(grid_pairs(s, 10.0, 500.0, listed), one) << s.size() << " objects, " << threads << " threads";
+      EXPECT_EQ(listed, one.size()) << threads << " threads: a pair listed twice";
+    }
   }
   omp_set_num_threads(saved);
 }
