@@ -122,7 +122,7 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
     if (use_hulls) {
       // The hulls first (one cache line per object, at two random places in memory: ask for a pair's
       // hulls a few pairs ahead so their loads overlap); the states only for pairs they keep.
-      constexpr std::size_t kAhead = 8;
+      constexpr std::size_t kAhead = 16;
       for (std::size_t p = 0; p < mine.size(); ++p) {
         if (p + kAhead < mine.size()) {
           __builtin_prefetch(&grid_.hull(mine[p + kAhead].i));
