@@ -126,8 +126,8 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   const std::size_t threads = static_cast<std::size_t>(omp_get_num_threads());
   const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
   if (threads > prepared_threads_) throw std::logic_error("BroadPhaseGrid: team larger than prepared");
-  // Each thread owns a contiguous chunk of objects: the propagator's static schedule wrote the same
-  // chunk's end states, so the first pass reads what this core already holds.
+  // Each thread owns a contiguous chunk of objects: the propagator splits them the same way (n t / team)
+  // and wrote the chunk's end states on this core, so the first pass reads what this core holds.
   const std::size_t begin = n * t / threads, end = n * (t + 1) / threads;
   // The cell edge guessed from the last step (read by every thread before anyone may change it).
   const double guess = next_cell_m_;

@@ -8,6 +8,7 @@
 
 #include "core/physics/constants.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -32,15 +33,41 @@ namespace {
 
 using StepArrays = SymplecticPropagator::StepArrays;
 
-// The start states are written to `start` (when not null) in the same pass. drift and kick hold the
-// composition's weights times dt; f the force instants of the kicks.
+// One composed step's coefficients at one time: the force instants of the kicks and the drift and
+// kick lengths (the composition's weights times the step).
+struct StepPlan {
+  ForceInstant f[Composition::kMaxKicks];
+  double drift[Composition::kMaxKicks + 1];
+  double kick_length[Composition::kMaxKicks];
+  int kicks = 0;
+  AtmosphereModel atmosphere = AtmosphereModel::kExponentialFit;
+};
+
+StepPlan plan_step(const ForceModel& model, const Composition& c, double t_start_s, double dt_s) {
+  StepPlan plan;
+  plan.kicks = c.kicks;
+  plan.atmosphere = model.settings().atmosphere;
+  // Drag rate k |v_rel| times the longest kick at most 1/4, i.e. at most 1/8 per half-flow, so a kick's
+  // drag changes v_rel by a factor in [1/1.125^2, 1/0.875^2] (drag.hpp): inactive above ~100 km.
+  const double drag_limit = SymplecticPropagator::kDragRateLimitPerKick / (c.largest_kick() * dt_s);
+  for (int k = 0; k < c.kicks; ++k) {
+    const auto u = static_cast<std::size_t>(k);
+    plan.f[k] = model.instant(t_start_s + c.kick_time[u] * dt_s);
+    plan.f[k].drag_rate_limit_per_s = drag_limit;
+    plan.kick_length[k] = c.kick[u] * dt_s;
+  }
+  for (int k = 0; k <= c.kicks; ++k) plan.drift[k] = c.drift[static_cast<std::size_t>(k)] * dt_s;
+  return plan;
+}
+
+// Objects [begin, end) of `s`, one step. The start states are written to `start` (when not null) in the
+// same pass. No OpenMP region of its own: callers split the objects between their threads.
 template <AtmosphereModel kAtmosphere, bool kKeepStart, int kKicks>
-void composed_step(const StepArrays& s, std::size_t n, const ForceInstant* f, const double* drift,
-                   const double* kick_length, int threads, StateArrays* start) {
+void composed_range(const StepArrays& s, long begin, long end, const StepPlan& plan, StateArrays* start) {
   double a[kKicks + 1], b[kKicks];
-  for (int k = 0; k <= kKicks; ++k) a[k] = drift[k];
-  for (int k = 0; k < kKicks; ++k) b[k] = kick_length[k];
-  const long count = static_cast<long>(n);
+  for (int k = 0; k <= kKicks; ++k) a[k] = plan.drift[k];
+  for (int k = 0; k < kKicks; ++k) b[k] = plan.kick_length[k];
+  const ForceInstant* f = plan.f;
   // Local pointers: the loop must not re-read them through `s` (a store could alias it in principle).
   double* __restrict px = s.x;
   double* __restrict py = s.y;
@@ -56,10 +83,8 @@ void composed_step(const StepArrays& s, std::size_t n, const ForceInstant* f, co
   double* __restrict svx = kKeepStart ? start->vx.data() : nullptr;
   double* __restrict svy = kKeepStart ? start->vy.data() : nullptr;
   double* __restrict svz = kKeepStart ? start->vz.data() : nullptr;
-// Tiny populations (tests, tools, the low objects' sub-steps) run on a team of one: more threads cost
-// more than they save. (Not an `if` clause: GCC then runs the loop unvectorised, 7x slower per object.)
-#pragma omp parallel for simd schedule(static) num_threads(count >= 512 ? threads : 1)
-  for (long i = 0; i < count; ++i) {
+#pragma omp simd
+  for (long i = begin; i < end; ++i) {
     double x = px[i], y = py[i], z = pz[i];
     double vx = pvx[i], vy = pvy[i], vz = pvz[i];
     const double cda = pcda[i], am = pam[i];
@@ -87,25 +112,32 @@ void composed_step(const StepArrays& s, std::size_t n, const ForceInstant* f, co
 }
 
 template <int kKicks>
-void step_with(AtmosphereModel atmosphere, const StepArrays& s, std::size_t n, const ForceInstant* f,
-               const double* drift, const double* kick_length, int threads, StateArrays* start) {
-  const bool table = atmosphere == AtmosphereModel::kDensityTable;
+void range_with(const StepArrays& s, long begin, long end, const StepPlan& plan, StateArrays* start) {
+  const bool table = plan.atmosphere == AtmosphereModel::kDensityTable;
   if (start != nullptr) {
     if (table)
-      composed_step<AtmosphereModel::kDensityTable, true, kKicks>(s, n, f, drift, kick_length, threads,
-                                                                  start);
+      composed_range<AtmosphereModel::kDensityTable, true, kKicks>(s, begin, end, plan, start);
     else
-      composed_step<AtmosphereModel::kExponentialFit, true, kKicks>(s, n, f, drift, kick_length, threads,
-                                                                    start);
+      composed_range<AtmosphereModel::kExponentialFit, true, kKicks>(s, begin, end, plan, start);
   } else {
     if (table)
-      composed_step<AtmosphereModel::kDensityTable, false, kKicks>(s, n, f, drift, kick_length, threads,
-                                                                   nullptr);
+      composed_range<AtmosphereModel::kDensityTable, false, kKicks>(s, begin, end, plan, nullptr);
     else
-      composed_step<AtmosphereModel::kExponentialFit, false, kKicks>(s, n, f, drift, kick_length, threads,
-                                                                     nullptr);
+      composed_range<AtmosphereModel::kExponentialFit, false, kKicks>(s, begin, end, plan, nullptr);
   }
 }
+
+void step_range(const StepArrays& s, long begin, long end, const StepPlan& plan, StateArrays* start) {
+  if (plan.kicks == 3)
+    range_with<3>(s, begin, end, plan, start);
+  else if (plan.kicks == 7)
+    range_with<7>(s, begin, end, plan, start);
+  else
+    throw std::logic_error("SymplecticPropagator: no kernel for this composition");
+}
+
+// Tiny populations (tests, tools) run on a team of one: more threads cost more than they save.
+constexpr std::size_t kParallelMinimum = 512;
 
 }  // namespace
 
@@ -144,81 +176,85 @@ void SymplecticPropagator::advance(Population& population, double t_start_s, dou
                     st.vz.data(),
                     population.drag_area_to_mass_m2_kg.data(),
                     population.srp_area_to_mass_m2_kg.data()};
-  const int threads = threads_ > 0 ? threads_ : omp_get_max_threads();
+  const int threads = n >= kParallelMinimum ? (threads_ > 0 ? threads_ : omp_get_max_threads()) : 1;
 
   // Objects that start the step low in the atmosphere take kLowAltitudeSubsteps steps of dt / k instead
-  // (on copies of their states, merged after the main pass). The choice depends on the object's own
-  // state alone, so it is the same for any thread count and after a restart.
+  // (on copies of their states, written back after the main pass). The choice depends on the object's
+  // own state alone, so it is the same for any thread count and after a restart.
   const double low_radius_m = constants::kEarthEquatorialRadius_m + kLowAltitude_m;
   const double low_radius2 = low_radius_m * low_radius_m;
+  const bool substep_low = model_.settings().drag;
+  const StepPlan plan = plan_step(model_, composition_, t_start_s, dt_s);
+  StepPlan sub_plans[kLowAltitudeSubsteps];
+  if (substep_low)
+    for (int sub = 0; sub < kLowAltitudeSubsteps; ++sub)
+      sub_plans[sub] = plan_step(model_, composition_, t_start_s + sub * (dt_s / kLowAltitudeSubsteps),
+                                 dt_s / kLowAltitudeSubsteps);
+  low_flag_.resize(n);
+  low_by_thread_.resize(static_cast<std::size_t>(threads));
+  for (ThreadLow& low : low_by_thread_) low.index.clear();  // OpenMP may give fewer threads
+    // One region: each thread finds, propagates and sub-steps the low objects of its own contiguous chunk
+    // (the chunk the detector's grid reads back on the same core), so no core touches another's states.
+#pragma omp parallel num_threads(threads)
+  {
+    const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());
+    const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
+    const std::size_t begin = n * t / team, end = n * (t + 1) / team;
+    ThreadLow& mine = low_by_thread_[t];
+    if (substep_low) {
+      const double* __restrict x = st.x.data();
+      const double* __restrict y = st.y.data();
+      const double* __restrict z = st.z.data();
+      char* __restrict flag = low_flag_.data();
+#pragma omp simd
+      for (std::size_t i = begin; i < end; ++i)
+        flag[i] = x[i] * x[i] + y[i] * y[i] + z[i] * z[i] < low_radius2;
+      // Few objects fly low: jump from flag to flag.
+      for (const char* p = flag + begin;
+           p < flag + end && (p = static_cast<const char*>(std::memchr(p, 1, end - (p - flag)))) != nullptr;
+           ++p)
+        mine.index.push_back(static_cast<std::uint32_t>(p - flag));
+      const std::size_t m = mine.index.size();
+      mine.state.resize(8 * m);
+      double* c = mine.state.data();
+      for (std::size_t k = 0; k < m; ++k) {
+        const std::size_t i = mine.index[k];
+        c[k] = st.x[i], c[m + k] = st.y[i], c[2 * m + k] = st.z[i];
+        c[3 * m + k] = st.vx[i], c[4 * m + k] = st.vy[i], c[5 * m + k] = st.vz[i];
+        c[6 * m + k] = population.drag_area_to_mass_m2_kg[i];
+        c[7 * m + k] = population.srp_area_to_mass_m2_kg[i];
+      }
+    }
+    step_range(arrays, static_cast<long>(begin), static_cast<long>(end), plan, start_out);
+    if (substep_low) {
+      // The low objects cluster in some chunks (decaying debris of one launch or breakup sits together
+      // in the catalog), so their sub-steps are shared out evenly once every chunk has its list: thread
+      // t takes objects [total t / team, total (t + 1) / team) of all lists in thread order.
+#pragma omp barrier
+      std::size_t total = 0;
+      for (std::size_t u = 0; u < team; ++u) total += low_by_thread_[u].index.size();
+      const std::size_t from = total * t / team, to = total * (t + 1) / team;
+      std::size_t offset = 0;
+      for (std::size_t u = 0; u < team && offset < to; ++u) {
+        ThreadLow& list = low_by_thread_[u];
+        const std::size_t m = list.index.size();
+        const std::size_t lo = std::max(from, offset) - offset, hi = std::min(to, offset + m) - offset;
+        offset += m;
+        if (from >= offset || lo >= hi) continue;
+        double* c = list.state.data();
+        const StepArrays low{c, c + m, c + 2 * m, c + 3 * m, c + 4 * m, c + 5 * m, c + 6 * m, c + 7 * m};
+        for (int sub = 0; sub < kLowAltitudeSubsteps; ++sub)
+          step_range(low, static_cast<long>(lo), static_cast<long>(hi), sub_plans[sub], nullptr);
+        for (std::size_t k = lo; k < hi; ++k) {
+          const std::size_t i = list.index[k];
+          st.x[i] = c[k], st.y[i] = c[m + k], st.z[i] = c[2 * m + k];
+          st.vx[i] = c[3 * m + k], st.vy[i] = c[4 * m + k], st.vz[i] = c[5 * m + k];
+        }
+      }
+    }
+  }
   low_.clear();
-  if (model_.settings().drag) {
-    // Flagged by the threads that propagate the same chunks (a serial scan would read every other
-    // core's freshly written positions, and those cores would then pay to write them again), then
-    // listed in population order from one byte per object.
-    low_flag_.resize(n);
-    const double* __restrict x = st.x.data();
-    const double* __restrict y = st.y.data();
-    const double* __restrict z = st.z.data();
-    char* __restrict flag = low_flag_.data();
-    const long count = static_cast<long>(n);
-#pragma omp parallel for simd schedule(static) num_threads(count >= 512 ? threads : 1)
-    for (long i = 0; i < count; ++i) flag[i] = x[i] * x[i] + y[i] * y[i] + z[i] * z[i] < low_radius2;
-    for (const char* p = flag; (p = static_cast<const char*>(std::memchr(p, 1, n - (p - flag)))) != nullptr;
-         ++p) {
-      low_.push_back(static_cast<std::uint32_t>(p - flag));
-      if (p - flag + 1 == count) break;
-    }
-  }
-  if (!low_.empty()) {
-    const std::size_t m = low_.size();
-    low_state_.resize(8 * m);
-    double* c = low_state_.data();
-    for (std::size_t k = 0; k < m; ++k) {
-      const std::size_t i = low_[k];
-      c[k] = st.x[i], c[m + k] = st.y[i], c[2 * m + k] = st.z[i];
-      c[3 * m + k] = st.vx[i], c[4 * m + k] = st.vy[i], c[5 * m + k] = st.vz[i];
-      c[6 * m + k] = population.drag_area_to_mass_m2_kg[i];
-      c[7 * m + k] = population.srp_area_to_mass_m2_kg[i];
-    }
-    const StepArrays low{c, c + m, c + 2 * m, c + 3 * m, c + 4 * m, c + 5 * m, c + 6 * m, c + 7 * m};
-    const double h = dt_s / kLowAltitudeSubsteps;
-    for (int sub = 0; sub < kLowAltitudeSubsteps; ++sub) step_arrays(low, m, t_start_s + sub * h, h, 1);
-  }
-  step_arrays(arrays, n, t_start_s, dt_s, threads, start_out);
-  if (!low_.empty()) {
-    const std::size_t m = low_.size();
-    const double* c = low_state_.data();
-    for (std::size_t k = 0; k < m; ++k) {
-      const std::size_t i = low_[k];
-      st.x[i] = c[k], st.y[i] = c[m + k], st.z[i] = c[2 * m + k];
-      st.vx[i] = c[3 * m + k], st.vy[i] = c[4 * m + k], st.vz[i] = c[5 * m + k];
-    }
-  }
-}
-
-void SymplecticPropagator::step_arrays(const StepArrays& arrays, std::size_t n, double t_start_s, double dt_s,
-                                       int threads, StateArrays* start_out) const {
-  const Composition& c = composition_;
-  ForceInstant f[Composition::kMaxKicks];
-  double drift[Composition::kMaxKicks + 1], kick_length[Composition::kMaxKicks];
-  // Drag rate k |v_rel| times the longest kick at most 1/4, i.e. at most 1/8 per half-flow, so a kick's
-  // drag changes v_rel by a factor in [1/1.125^2, 1/0.875^2] (drag.hpp): inactive above ~100 km.
-  const double drag_limit = kDragRateLimitPerKick / (c.largest_kick() * dt_s);
-  for (int k = 0; k < c.kicks; ++k) {
-    const auto u = static_cast<std::size_t>(k);
-    f[k] = model_.instant(t_start_s + c.kick_time[u] * dt_s);
-    f[k].drag_rate_limit_per_s = drag_limit;
-    kick_length[k] = c.kick[u] * dt_s;
-  }
-  for (int k = 0; k <= c.kicks; ++k) drift[k] = c.drift[static_cast<std::size_t>(k)] * dt_s;
-  const AtmosphereModel atmosphere = model_.settings().atmosphere;
-  if (c.kicks == 3)
-    step_with<3>(atmosphere, arrays, n, f, drift, kick_length, threads, start_out);
-  else if (c.kicks == 7)
-    step_with<7>(atmosphere, arrays, n, f, drift, kick_length, threads, start_out);
-  else
-    throw std::logic_error("SymplecticPropagator: no kernel for this composition");
+  for (const ThreadLow& low : low_by_thread_) low_.insert(low_.end(), low.index.begin(), low.index.end());
 }
 
 void validate_for_propagation(const Population& population) {

@@ -74,9 +74,6 @@ class SymplecticPropagator final : public Propagator {
   struct StepArrays;
 
  private:
-  // One step of n objects held in `arrays`.
-  void step_arrays(const StepArrays& arrays, std::size_t n, double t_start_s, double dt_s, int threads,
-                   StateArrays* start_out = nullptr) const;
   void advance(Population& population, double t_start_s, double dt_s, StateArrays* start_out);
 
   ForceModel model_;
@@ -85,7 +82,13 @@ class SymplecticPropagator final : public Propagator {
   int threads_ = 0;
   std::vector<std::uint32_t> low_;  // objects sub-stepped in this step
   std::vector<char> low_flag_;      // per object: starts this step low
-  std::vector<double> low_state_;   // their states and area-to-mass ratios, 8 arrays of low_.size()
+  // Per thread, on its own cache line: its low objects and their states and area-to-mass ratios (8
+  // arrays of index.size()).
+  struct alignas(64) ThreadLow {
+    std::vector<std::uint32_t> index;
+    std::vector<double> state;
+  };
+  std::vector<ThreadLow> low_by_thread_;
 };
 
 // Throws std::invalid_argument with Population::validate's message ("object <id>: <field> <reason>")
