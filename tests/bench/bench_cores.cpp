@@ -104,23 +104,21 @@ int bench_cores(int argc, char** argv) {
     std::fprintf(stderr, "kessler-bench cores: needs 2 threads, OpenMP gave %d\n", cost.team);
     return 1;
   }
-  const double read_own = cost.read_own_ns, read_other = cost.read_other_ns;
-  const double write_private = cost.write_private_ns, write_shared = cost.write_shared_ns;
   std::printf(
       "cores: %zu lines, medians of %d: random read %.2f ns/line (own) vs %.2f (written by the other "
       "core): %.1fx; sequential write %.2f (private) vs %.2f (read by the other core): %.1fx\n",
-      lines, repeats, read_own, read_other, read_other / read_own, write_private, write_shared,
-      write_shared / write_private);
+      lines, repeats, cost.read_own_ns, cost.read_other_ns, cost.read_ratio(), cost.write_private_ns,
+      cost.write_shared_ns, cost.write_ratio());
   JsonLine()
       .add("benchmark", std::string("cores"))
       .add("lines", static_cast<std::int64_t>(lines))
       .add("repeats", static_cast<std::int64_t>(repeats))
-      .add("read_own_ns_per_line", read_own)
-      .add("read_other_ns_per_line", read_other)
-      .add("read_other_ratio", read_other / read_own)
-      .add("write_private_ns_per_line", write_private)
-      .add("write_shared_ns_per_line", write_shared)
-      .add("write_shared_ratio", write_shared / write_private)
+      .add("read_own_ns_per_line", cost.read_own_ns)
+      .add("read_other_ns_per_line", cost.read_other_ns)
+      .add("read_other_ratio", cost.read_ratio())
+      .add("write_private_ns_per_line", cost.write_private_ns)
+      .add("write_shared_ns_per_line", cost.write_shared_ns)
+      .add("write_shared_ratio", cost.write_ratio())
       .print();
   return 0;
 }
