@@ -23,6 +23,10 @@ run() {  # name threads args...
   printf '%s\t%s\t%s\n' "$name" "$t" "$line" >>"$results"
 }
 
+# Where the machine puts its cores (a line that changes cores, read and written): multi-core figures
+# follow it, and on a VM it can change between runs.
+"$bench" cores | tail -1
+
 for t in "${threads[@]}"; do
   run propagate "$t" propagate --objects 20000 --steps 200 --repeats 7
   run detect "$t" conjunctions --objects 19647 --steps 200 --repeats 5
