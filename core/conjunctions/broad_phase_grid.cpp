@@ -1,5 +1,7 @@
 #include "core/conjunctions/broad_phase_grid.hpp"
 
+#include "core/integration/thread_chunks.hpp"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -100,7 +102,7 @@ void BroadPhaseGrid::prepare(std::size_t n, int threads) {
   group_start_.resize(team * partitions);
   thread_oversized_.resize(team);
   thread_edge_.resize(team);
-  partition_start_.resize(partitions + 1);
+  partition_start_.resize(partitions);
   prepared_threads_ = team;
 }
 
@@ -126,9 +128,9 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   const std::size_t threads = static_cast<std::size_t>(omp_get_num_threads());
   const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
   if (threads > prepared_threads_) throw std::logic_error("BroadPhaseGrid: team larger than prepared");
-  // Each thread owns a contiguous chunk of objects: the propagator splits them the same way (n t / team)
-  // and wrote the chunk's end states on this core, so the first pass reads what this core holds.
-  const std::size_t begin = n * t / threads, end = n * (t + 1) / threads;
+  // Each thread owns the chunk of objects whose end states the propagator wrote on this core
+  // (thread_chunks.hpp), so the first pass reads what this core holds.
+  const auto [begin, end] = thread_chunk(n, t, threads);
   // The cell edge guessed from the last step (read by every thread before anyone may change it).
   const double guess = next_cell_m_;
   std::uint32_t* counts = &coarse_count_[t * partitions];
@@ -248,10 +250,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       if (p >= p_begin && p < p_end) partition_start_[p] = running;  // each thread writes its own
       for (std::size_t u = 0; u < threads; ++u) running += coarse_count_[u * partitions + p];
     }
-    if (t + 1 == threads) {
-      partition_start_[partitions] = running;
-      bucket_start_[buckets] = running;
-    }
+    if (t + 1 == threads) bucket_start_[buckets] = running;
   }
   if (t == 0) {
     cell_size_m_ = cell;
@@ -292,15 +291,19 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     std::uint32_t* starts = &bucket_start_[first_bucket];
     std::fill(starts, starts + fine_buckets, 0u);
     std::fill(&occupied_[first_bucket / 64], &occupied_[first_bucket / 64] + fine_buckets / 64, 0ull);
-    for (std::size_t u = 0; u < threads; ++u) {
-      const GridBox* group = &scratch_[group_start_[u * partitions + p]];
-      const std::uint32_t count = coarse_count_[u * partitions + p];
-      for (std::uint32_t m = 0; m < count; ++m) {
-        const std::size_t b = bucket_of(group[m].key);
-        ++starts[b - first_bucket];
-        occupied_[b >> 6] |= std::uint64_t{1} << (b & 63);
+    // The partition's boxes: every thread's group, in thread order.
+    auto each_box = [&](auto&& f) {
+      for (std::size_t u = 0; u < threads; ++u) {
+        const GridBox* group = &scratch_[group_start_[u * partitions + p]];
+        const std::uint32_t count = coarse_count_[u * partitions + p];
+        for (std::uint32_t m = 0; m < count; ++m) f(group[m]);
       }
-    }
+    };
+    each_box([&](const GridBox& box) {
+      const std::size_t b = bucket_of(box.key);
+      ++starts[b - first_bucket];
+      occupied_[b >> 6] |= std::uint64_t{1} << (b & 63);
+    });
     std::uint32_t start = partition_start_[p];
     for (std::size_t f = 0; f < fine_buckets; ++f) {
       const std::uint32_t c = starts[f];
@@ -308,21 +311,16 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       start += c;
     }
     // Scatter with the starts as cursors, then shift the starts back.
-    for (std::size_t u = 0; u < threads; ++u) {
-      const GridBox* group = &scratch_[group_start_[u * partitions + p]];
-      const std::uint32_t count = coarse_count_[u * partitions + p];
-      for (std::uint32_t m = 0; m < count; ++m) {
-        const GridBox& box = group[m];
-        const std::uint32_t k = starts[bucket_of(box.key) - first_bucket]++;
-        for (int axis = 0; axis < 3; ++axis) {
-          slot_box_[axis][k] = box.lo[axis];
-          slot_box_[3 + axis][k] = box.hi[axis];
-        }
-        slot_key_[k] = box.key;
-        slot_crosses_[k] = static_cast<std::uint8_t>(box.crosses);
-        slot_index_[k] = box.index;
+    each_box([&](const GridBox& box) {
+      const std::uint32_t k = starts[bucket_of(box.key) - first_bucket]++;
+      for (int axis = 0; axis < 3; ++axis) {
+        slot_box_[axis][k] = box.lo[axis];
+        slot_box_[3 + axis][k] = box.hi[axis];
       }
-    }
+      slot_key_[k] = box.key;
+      slot_crosses_[k] = static_cast<std::uint8_t>(box.crosses);
+      slot_index_[k] = box.index;
+    });
     for (std::size_t f = fine_buckets; f-- > 1;) starts[f] = starts[f - 1];
     starts[0] = partition_start_[p];
   }

@@ -34,7 +34,7 @@
 // The build runs inside the caller's parallel region with three barriers (boxes and keys; scatter into
 // coarse partitions; sort of each partition by fine bucket) and no serial section: every thread
 // computes the partition layout itself from all threads' counts. Each thread keeps the contiguous
-// chunk of objects whose end states the propagator wrote on the same core (the same n t / team split).
+// chunk of objects whose end states the propagator wrote on the same core (thread_chunks.hpp).
 // (A linear bucket function, x cx + y cy + z, which puts neighbour rows at fixed offsets, was measured
 // and did not pay: 149.7 vs 145.5 ns per object-step at 320k, equal at 19,647.)
 //

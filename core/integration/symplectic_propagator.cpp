@@ -6,11 +6,11 @@
 
 #include "core/integration/symplectic_propagator.hpp"
 
+#include "core/integration/thread_chunks.hpp"
 #include "core/physics/constants.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -136,9 +136,6 @@ void step_range(const StepArrays& s, long begin, long end, const StepPlan& plan,
     throw std::logic_error("SymplecticPropagator: no kernel for this composition");
 }
 
-// Tiny populations (tests, tools) run on a team of one: more threads cost more than they save.
-constexpr std::size_t kParallelMinimum = 512;
-
 }  // namespace
 
 SymplecticPropagator::SymplecticPropagator(const ForceModelSettings& forces, const UtcEpoch& epoch,
@@ -176,7 +173,8 @@ void SymplecticPropagator::advance(Population& population, double t_start_s, dou
                     st.vz.data(),
                     population.drag_area_to_mass_m2_kg.data(),
                     population.srp_area_to_mass_m2_kg.data()};
-  const int threads = n >= kParallelMinimum ? (threads_ > 0 ? threads_ : omp_get_max_threads()) : 1;
+  const int threads =
+      n >= kPropagationParallelMinimum ? (threads_ > 0 ? threads_ : omp_get_max_threads()) : 1;
 
   // Objects that start the step low in the atmosphere take kLowAltitudeSubsteps steps of dt / k instead
   // (on copies of their states, written back after the main pass). The choice depends on the object's
@@ -190,16 +188,16 @@ void SymplecticPropagator::advance(Population& population, double t_start_s, dou
     for (int sub = 0; sub < kLowAltitudeSubsteps; ++sub)
       sub_plans[sub] = plan_step(model_, composition_, t_start_s + sub * (dt_s / kLowAltitudeSubsteps),
                                  dt_s / kLowAltitudeSubsteps);
-  low_flag_.resize(n);
+  if (substep_low) low_flag_.resize(n);
   low_by_thread_.resize(static_cast<std::size_t>(threads));
   for (ThreadLow& low : low_by_thread_) low.index.clear();  // OpenMP may give fewer threads
-    // One region: each thread finds, propagates and sub-steps the low objects of its own contiguous chunk
-    // (the chunk the detector's grid reads back on the same core), so no core touches another's states.
+    // One region: each thread flags the low objects of its own chunk (thread_chunks.hpp) and propagates
+    // the chunk, so no core touches another's states; then the low objects' sub-steps are shared out.
 #pragma omp parallel num_threads(threads)
   {
     const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());
     const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
-    const std::size_t begin = n * t / team, end = n * (t + 1) / team;
+    const auto [begin, end] = thread_chunk(n, t, team);
     ThreadLow& mine = low_by_thread_[t];
     if (substep_low) {
       const double* __restrict x = st.x.data();
@@ -209,11 +207,8 @@ void SymplecticPropagator::advance(Population& population, double t_start_s, dou
 #pragma omp simd
       for (std::size_t i = begin; i < end; ++i)
         flag[i] = x[i] * x[i] + y[i] * y[i] + z[i] * z[i] < low_radius2;
-      // Few objects fly low: jump from flag to flag.
-      for (const char* p = flag + begin;
-           p < flag + end && (p = static_cast<const char*>(std::memchr(p, 1, end - (p - flag)))) != nullptr;
-           ++p)
-        mine.index.push_back(static_cast<std::uint32_t>(p - flag));
+      for_each_flagged(flag, begin, end,
+                       [&](std::size_t i) { mine.index.push_back(static_cast<std::uint32_t>(i)); });
       const std::size_t m = mine.index.size();
       mine.state.resize(8 * m);
       double* c = mine.state.data();
@@ -240,7 +235,7 @@ void SymplecticPropagator::advance(Population& population, double t_start_s, dou
         const std::size_t m = list.index.size();
         const std::size_t lo = std::max(from, offset) - offset, hi = std::min(to, offset + m) - offset;
         offset += m;
-        if (from >= offset || lo >= hi) continue;
+        if (lo >= hi) continue;
         double* c = list.state.data();
         const StepArrays low{c, c + m, c + 2 * m, c + 3 * m, c + 4 * m, c + 5 * m, c + 6 * m, c + 7 * m};
         for (int sub = 0; sub < kLowAltitudeSubsteps; ++sub)
