@@ -65,11 +65,133 @@ inline void min_max4(double a, double b, double c, double d, double& lo, double&
   hi = std::max(std::max(a, b), std::max(c, d));
 }
 
+// The box pass's inputs and outputs as plain arrays (see grow_boxes).
+struct BoxPassInput {
+  BoxPassInput(const StateArrays& s0, const StateArrays& s1, const ThresholdShare& share, double reach_s,
+               double max_motion_m)
+      : x0(s0.x.data()),
+        y0(s0.y.data()),
+        z0(s0.z.data()),
+        vx0(s0.vx.data()),
+        vy0(s0.vy.data()),
+        vz0(s0.vz.data()),
+        x1(s1.x.data()),
+        y1(s1.y.data()),
+        z1(s1.z.data()),
+        vx1(s1.vx.data()),
+        vy1(s1.vy.data()),
+        vz1(s1.vz.data()),
+        radius(share.radius_m),
+        kappa(share.kappa),
+        fixed_share(share.fixed_m),
+        reach_s(reach_s),
+        max_motion_m(max_motion_m) {}
+  const double *x0, *y0, *z0, *vx0, *vy0, *vz0, *x1, *y1, *z1, *vx1, *vy1, *vz1;
+  const double* radius;  // null: every object's share is fixed_share
+  double kappa, fixed_share;
+  double reach_s;  // dt / 3 (Hermite: the inner control points' offsets dt v / 3) or dt (the line)
+  double max_motion_m;
+};
+struct BoxPassOutput {
+  float *lo[3], *hi[3];
+  float* reach;
+  std::uint32_t* flags;  // bits 0-2: the chord's direction per axis; kOversizedFlag
+};
+constexpr std::uint32_t kOversizedFlag = 8u;
+
+// Each object's grown box rounded outwards to floats, the chord filter's direction bits and reach
+// (step_chord.hpp), and whether it is oversized. Every pointer is a local restrict copy (read through a
+// struct or a vector, the loop would reload it after each store), and the loop has no reduction (GCC
+// 12 then emits it scalar in spite of reporting it vectorised): both would leave it scalar.
+template <bool kHermite, bool kRadii>
+void grow_boxes(const BoxPassInput& in, const BoxPassOutput& out, std::size_t begin, std::size_t end) {
+  const double* __restrict x0 = in.x0;
+  const double* __restrict y0 = in.y0;
+  const double* __restrict z0 = in.z0;
+  const double* __restrict vx0 = in.vx0;
+  const double* __restrict vy0 = in.vy0;
+  const double* __restrict vz0 = in.vz0;
+  const double* __restrict x1 = in.x1;
+  const double* __restrict y1 = in.y1;
+  const double* __restrict z1 = in.z1;
+  const double* __restrict vx1 = in.vx1;
+  const double* __restrict vy1 = in.vy1;
+  const double* __restrict vz1 = in.vz1;
+  const double* __restrict radius = in.radius;
+  float* __restrict lo_x = out.lo[0];
+  float* __restrict lo_y = out.lo[1];
+  float* __restrict lo_z = out.lo[2];
+  float* __restrict hi_x = out.hi[0];
+  float* __restrict hi_y = out.hi[1];
+  float* __restrict hi_z = out.hi[2];
+  float* __restrict reach_out = out.reach;
+  std::uint32_t* __restrict flags = out.flags;
+  const double kappa = in.kappa, fixed_share = in.fixed_share, reach = in.reach_s;
+  const double max_motion = in.max_motion_m;
+#pragma omp simd
+  for (std::size_t i = begin; i < end; ++i) {
+    const double grow = (kRadii ? kappa * radius[i] : fixed_share) + kRoundingMargin_m;
+    const double p0[3] = {x0[i], y0[i], z0[i]};
+    const double v0[3] = {vx0[i], vy0[i], vz0[i]};
+    const double p1[3] = {x1[i], y1[i], z1[i]};
+    const double v1[3] = {vx1[i], vy1[i], vz1[i]};
+    double lo[3], hi[3], motion_edge = 0.0;
+    // The chord's end, and the inner control points' offsets from the chord (step_chord.hpp).
+    double chord_end[3], e1 = 0.0, e2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      if constexpr (kHermite) {
+        const double c1 = p0[k] + reach * v0[k], c2 = p1[k] - reach * v1[k];
+        min_max4(p0[k], c1, c2, p1[k], lo[k], hi[k]);
+        const double u = p1[k] - p0[k];
+        const double o1 = c1 - (p0[k] + u / 3.0), o2 = c2 - (p0[k] + 2.0 * u / 3.0);
+        e1 += o1 * o1;
+        e2 += o2 * o2;
+        chord_end[k] = p1[k];
+      } else {
+        chord_end[k] = p0[k] + reach * v0[k];
+        lo[k] = std::min(p0[k], chord_end[k]);
+        hi[k] = std::max(p0[k], chord_end[k]);
+      }
+      motion_edge = std::max(motion_edge, hi[k] - lo[k]);
+    }
+    // The chord's ends stand in for the grown box's corners nearest to them (one direction bit per
+    // axis); err is the larger distance of those corners from the exact ends.
+    float lo_f[3], hi_f[3];
+    std::uint32_t bits = 0;
+    double err0 = 0.0, err1 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      lo_f[k] = float_below(lo[k] - grow);
+      hi_f[k] = float_above(hi[k] + grow);
+      const bool rising = p0[k] <= chord_end[k];
+      bits |= rising ? 1u << k : 0u;
+      const double d0 = (rising ? double{lo_f[k]} : double{hi_f[k]}) - p0[k];
+      const double d1 = (rising ? double{hi_f[k]} : double{lo_f[k]}) - chord_end[k];
+      err0 += d0 * d0;
+      err1 += d1 * d1;
+    }
+    const bool oversized =
+        !(motion_edge <= max_motion) || !std::isfinite(lo[0] + lo[1] + lo[2] + hi[0] + hi[1] + hi[2] + grow);
+    lo_x[i] = lo_f[0];
+    lo_y[i] = lo_f[1];
+    lo_z[i] = lo_f[2];
+    hi_x[i] = hi_f[0];
+    hi_y[i] = hi_f[1];
+    hi_z[i] = hi_f[2];
+    reach_out[i] = chord_reach_m(grow, e1, e2, std::sqrt(std::max(err0, err1)));
+    flags[i] = bits | (oversized ? kOversizedFlag : 0u);
+  }
+}
+
 }  // namespace
 
 void BroadPhaseGrid::prepare(std::size_t n, int threads) {
   box_.resize(n);
   slot_index_.resize(n);
+  slot_reach_.resize(n);
+  for (auto& axis : box_lo_) axis.resize(n);
+  for (auto& axis : box_hi_) axis.resize(n);
+  box_reach_.resize(n);
+  box_flags_.resize(n);
   hull_.resize(n);
   for (auto& axis : slot_box_) axis.resize(n + kLanes);
   slot_key_.resize(n);
@@ -142,6 +264,12 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     std::fill(counts, counts + partitions, 0u);
     for (std::size_t i = begin; i < end; ++i) {
       GridBox& box = box_[i];
+      for (int k = 0; k < 3; ++k) {
+        box.lo[k] = box_lo_[k][i];
+        box.hi[k] = box_hi_[k][i];
+      }
+      box.ends = box_flags_[i] & 7u;
+      box.reach_m = box_reach_[i];
       const std::uint64_t cx = axis_cell(box.lo[0], inverse_cell), cy = axis_cell(box.lo[1], inverse_cell),
                           cz = axis_cell(box.lo[2], inverse_cell);
       box.key = (cx << (2 * kAxisBits)) | (cy << kAxisBits) | cz;
@@ -155,56 +283,32 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     }
   };
 
-  // Pass 1: grown boxes, the oversized objects, the largest edge, and (with the guessed cell) keys. The
-  // box loop has no branch and no call, so it vectorises; the oversized objects (rare) are listed after.
-  double largest_edge = 0.0;
-  int any_oversized = 0;
-  GridBox* const boxes = box_.data();
+  // Pass 1: grown boxes, the chord filter's data, the oversized objects and the largest edge (in its own
+  // function, on plain arrays, so that it vectorises), then (with the guessed cell) keys.
+  BoxPassInput in{s0, s1, share, hermite ? dt / 3.0 : dt, max_motion_m};
+  BoxPassOutput out{{box_lo_[0].data(), box_lo_[1].data(), box_lo_[2].data()},
+                    {box_hi_[0].data(), box_hi_[1].data(), box_hi_[2].data()},
+                    box_reach_.data(),
+                    box_flags_.data()};
+  if (hermite) {
+    in.radius ? grow_boxes<true, true>(in, out, begin, end) : grow_boxes<true, false>(in, out, begin, end);
+  } else {
+    in.radius ? grow_boxes<false, true>(in, out, begin, end) : grow_boxes<false, false>(in, out, begin, end);
+  }
+  // The oversized objects, and the largest edge of the others.
   HermiteHull* const hulls = hull_.data();
   char* const oversized_flags = oversized_flag_.data();
-  // The Bezier control points' offsets (dt v / 3; a product, not a division per object: rounding moves
-  // a box by an ulp, far inside the 1 mm margin). The straight line reaches p0 + dt v0.
-  const double reach = hermite ? dt / 3.0 : dt;
-  auto box_pass = [&]<bool kHermite>() {
-#pragma omp simd reduction(max : largest_edge) reduction(| : any_oversized)
-    for (std::size_t i = begin; i < end; ++i) {
-      const double grow = share(i) + kRoundingMargin_m;
-      const double p0[3] = {s0.x[i], s0.y[i], s0.z[i]};
-      const double v0[3] = {s0.vx[i], s0.vy[i], s0.vz[i]};
-      double lo[3], hi[3], motion_edge = 0.0;
-      for (int k = 0; k < 3; ++k) {
-        if constexpr (kHermite) {
-          const double p1 = k == 0 ? s1.x[i] : k == 1 ? s1.y[i] : s1.z[i];
-          const double v1 = k == 0 ? s1.vx[i] : k == 1 ? s1.vy[i] : s1.vz[i];
-          min_max4(p0[k], p0[k] + reach * v0[k], p1 - reach * v1, p1, lo[k], hi[k]);
-
-        } else {
-          const double e = p0[k] + reach * v0[k];
-          lo[k] = std::min(p0[k], e);
-          hi[k] = std::max(p0[k], e);
-        }
-        motion_edge = std::max(motion_edge, hi[k] - lo[k]);
-        lo[k] -= grow;
-        hi[k] += grow;
-      }
-      const bool oversized =
-          !(motion_edge <= max_motion_m) || !std::isfinite(lo[0] + lo[1] + lo[2] + hi[0] + hi[1] + hi[2]);
-      oversized_flags[i] = oversized;
-      any_oversized |= oversized;
-      GridBox& box = boxes[i];
-      for (int k = 0; k < 3; ++k) {
-        box.lo[k] = float_below(lo[k]);
-        box.hi[k] = float_above(hi[k]);
-      }
-      const double edge = std::max(std::max(double{box.hi[0]} - box.lo[0], double{box.hi[1]} - box.lo[1]),
-                                   double{box.hi[2]} - box.lo[2]);
-      largest_edge = std::max(largest_edge, oversized ? 0.0 : edge);
+  double largest_edge = 0.0;
+  my_oversized.clear();
+  for (std::size_t i = begin; i < end; ++i) {
+    const bool oversized = (box_flags_[i] & kOversizedFlag) != 0;
+    oversized_flags[i] = oversized;
+    if (oversized) {
+      my_oversized.push_back(static_cast<std::uint32_t>(i));
+      continue;
     }
-  };
-  if (hermite) {
-    box_pass.template operator()<true>();
-  } else {
-    box_pass.template operator()<false>();
+    for (int k = 0; k < 3; ++k)
+      largest_edge = std::max(largest_edge, double{box_hi_[k][i]} - double{box_lo_[k][i]});
   }
   if (hermite && with_hulls) {
     // The hulls, in their own loop: their 64-byte stores would keep the box loop from vectorising.
@@ -221,10 +325,6 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       hulls[i] = hermite_hull(gather_object_step(s0, s1, i), dt, share(i));
 #endif
   }
-  my_oversized.clear();
-  if (any_oversized)
-    for (std::size_t i = begin; i < end; ++i)
-      if (oversized_flags[i]) my_oversized.push_back(static_cast<std::uint32_t>(i));
   thread_edge_[t] = largest_edge;
   if (guess > 0.0) key_chunk(guess);
 #pragma omp barrier
@@ -318,8 +418,9 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
         slot_box_[3 + axis][k] = box.hi[axis];
       }
       slot_key_[k] = box.key;
-      slot_crosses_[k] = static_cast<std::uint8_t>(box.crosses);
+      slot_crosses_[k] = static_cast<std::uint8_t>(box.crosses | box.ends << 3);
       slot_index_[k] = box.index;
+      slot_reach_[k] = box.reach_m;
     });
     for (std::size_t f = fine_buckets; f-- > 1;) starts[f] = starts[f - 1];
     starts[0] = partition_start_[p];
@@ -344,18 +445,27 @@ void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
   }
 }
 
+bool BroadPhaseGrid::chords_keep(std::size_t k, std::size_t m) const {
+  double a0[3], a1[3], b0[3], b1[3];
+  chord_corners(k, a0, a1);
+  chord_corners(m, b0, b1);
+  return chords_may_come_within(a0, a1, slot_reach_[k], b0, b1, slot_reach_[m]);
+}
+
 void BroadPhaseGrid::pair_with_slots(std::size_t k, std::size_t first, std::size_t last, std::uint64_t key_lo,
                                      std::uint64_t span, std::vector<CandidatePair>& out) const {
   const float *lo0 = slot_box_[0].data(), *lo1 = slot_box_[1].data(), *lo2 = slot_box_[2].data();
   const float *hi0 = slot_box_[3].data(), *hi1 = slot_box_[4].data(), *hi2 = slot_box_[5].data();
   const float a_lo0 = lo0[k], a_lo1 = lo1[k], a_lo2 = lo2[k], a_hi0 = hi0[k], a_hi1 = hi1[k], a_hi2 = hi2[k];
+  // Boxes overlap: the pair is a candidate if the chord filter keeps it too (step_chord.hpp).
+  auto keep = [this, k](std::size_t m) { return chords_keep(k, m); };
   // Short ranges (sparse populations) one slot at a time: the lanes' fixed cost would dominate.
   if (last - first < kLanes / 2 || last <= first) {
     for (std::size_t m = first; m < last; ++m) {
       const bool overlap = (a_lo0 <= hi0[m]) & (lo0[m] <= a_hi0) & (a_lo1 <= hi1[m]) & (lo1[m] <= a_hi1) &
                            (a_lo2 <= hi2[m]) & (lo2[m] <= a_hi2);
       if (overlap & (slot_key_[m] - key_lo <= span))  // one branch: both outcomes are hard to predict
-        out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
+        if (keep(m)) out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
     }
     return;
   }
@@ -377,7 +487,7 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, std::size_t first, std::size
         bits &= bits - 1;
         if (m >= last) break;
         // The cell: buckets hold other cells too.
-        if (slot_key_[m] - key_lo <= span)  // unsigned: below key_lo wraps high
+        if (slot_key_[m] - key_lo <= span && keep(m))
           out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
       }
     }

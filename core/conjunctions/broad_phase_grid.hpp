@@ -63,6 +63,7 @@
 
 #include "core/conjunctions/encounter.hpp"
 #include "core/conjunctions/hermite_hull.hpp"
+#include "core/conjunctions/step_chord.hpp"
 #include "core/integration/propagator.hpp"
 
 namespace kessler {
@@ -162,7 +163,24 @@ class BroadPhaseGrid {
     std::uint32_t crosses;
     std::uint32_t index;
     std::uint64_t key;
+    // The chord filter (step_chord.hpp): which box corner stands for the chord's start on each axis
+    // (bit k set: the lower one, and the upper one for its end), and the object's reach.
+    std::uint32_t ends;
+    float reach_m;
   };
+  // Whether the chord filter keeps slots k and m, whose boxes overlap .
+  bool chords_keep(std::size_t k, std::size_t m) const;
+  // The ends of slot k's chord as the filter takes them: box corners chosen by its direction bits.
+  void chord_corners(std::size_t k, double start[3], double end[3]) const {
+    const unsigned ends = slot_crosses_[k] >> 3;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double lo = slot_box_[axis][k], hi = slot_box_[3 + axis][k];
+      // rising ? lo : hi without a branch (the bits are random): exact, lo - hi is a double of floats.
+      const double rising = static_cast<double>((ends >> axis) & 1u);
+      start[axis] = hi + rising * (lo - hi);
+      end[axis] = lo + rising * (hi - lo);
+    }
+  }
 
   double cell_size_m_ = 0.0;
   // The cell edge to try first in the next build: the candidates never depend on it (only on the boxes),
@@ -174,14 +192,19 @@ class BroadPhaseGrid {
   std::size_t prepared_threads_ = 0;
   std::size_t slots_in_grid_ = 0;
   std::vector<GridBox> box_;  // per object (population index)
+  // The box pass's output per object (population index), arrays so that the pass vectorises: the
+  // grown box rounded to floats, the chord filter's reach and direction bits, the oversized flag.
+  std::vector<float> box_lo_[3], box_hi_[3], box_reach_;
+  std::vector<std::uint32_t> box_flags_;
   // Per slot (bucket order): the boxes axis by axis (lower x, y, z, upper x, y, z), each padded by
   // kLanes entries so the walk's last group of lanes reads inside the array; keys; crossing bits;
   // population indices.
   static constexpr std::size_t kLanes = 16;
   std::vector<float> slot_box_[6];
   std::vector<std::uint64_t> slot_key_;
-  std::vector<std::uint8_t> slot_crosses_;
+  std::vector<std::uint8_t> slot_crosses_;  // crossing bits (0-2) and chord direction bits (3-5)
   std::vector<std::uint32_t> slot_index_;
+  std::vector<float> slot_reach_;
   std::vector<HermiteHull> hull_;  // per object, with Hermite motion
   std::vector<char> oversized_flag_;
   std::vector<std::uint32_t> oversized_;     // population indices, ascending
