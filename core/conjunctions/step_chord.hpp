@@ -43,24 +43,21 @@ inline float chord_reach_m(double share_m, double e1_squared, double e2_squared,
 inline bool chords_may_come_within(const double a0[3], const double a1[3], double reach_a, const double b0[3],
                                    const double b1[3], double reach_b) {
   constexpr double kMargin_m = 1e-3;
-  double c0[3], u[3], uu = 0.0, c0u = 0.0;
+  double c0[3], u[3], uu = 0.0, c0u = 0.0, c0c0 = 0.0;
   for (int k = 0; k < 3; ++k) {
     c0[k] = a0[k] - b0[k];
     u[k] = (a1[k] - b1[k]) - c0[k];
     uu += u[k] * u[k];
     c0u += c0[k] * u[k];
+    c0c0 += c0[k] * c0[k];
   }
-  // Clamped to [0, 1] without branches (their outcome is random); 0 when uu = 0 (0 / 0 is NaN).
-  double s = -c0u / uu;
-  s = s > 0.0 ? s : 0.0;
-  s = s < 1.0 ? s : 1.0;
-  double d2 = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    const double w = c0[k] + s * u[k];
-    d2 += w * w;
-  }
+  // The closest point of the relative line c0 + s u, s in [0, 1], without a division or a branch (both
+  // slow here: the outcome is random): with t = s uu = clamp(-c0.u, 0, uu),
+  //   uu |c0 + s u|^2 = uu |c0|^2 + 2 t c0.u + t^2.
+  // (uu = 0, a relative motion of exactly nothing, keeps the pair.)
+  const double t = std::min(std::max(-c0u, 0.0), uu);
   const double reach = reach_a + reach_b + kMargin_m;
-  return d2 <= reach * reach * (1.0 + 1e-9);
+  return uu * c0c0 + t * (2.0 * c0u + t) <= reach * reach * uu * (1.0 + 1e-9);
 }
 
 }  // namespace kessler
