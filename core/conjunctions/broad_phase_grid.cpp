@@ -445,20 +445,22 @@ void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
   }
 }
 
-bool BroadPhaseGrid::chords_keep(std::size_t k, std::size_t m) const {
-  double a0[3], a1[3], b0[3], b1[3];
-  chord_corners(k, a0, a1);
-  chord_corners(m, b0, b1);
-  return chords_may_come_within(a0, a1, slot_reach_[k], b0, b1, slot_reach_[m]);
+bool BroadPhaseGrid::chords_keep(const ChordLine& a, std::size_t m) const {
+  const ChordLine b = chord_line(m);
+  return chords_may_come_within(a.start, a.end, a.reach_m, b.start, b.end, b.reach_m);
 }
 
-void BroadPhaseGrid::pair_with_slots(std::size_t k, std::size_t first, std::size_t last, std::uint64_t key_lo,
-                                     std::uint64_t span, std::vector<CandidatePair>& out) const {
+void BroadPhaseGrid::pair_with_slots(std::size_t k, ChordLine& chord, std::size_t first, std::size_t last,
+                                     std::uint64_t key_lo, std::uint64_t span,
+                                     std::vector<CandidatePair>& out) const {
   const float *lo0 = slot_box_[0].data(), *lo1 = slot_box_[1].data(), *lo2 = slot_box_[2].data();
   const float *hi0 = slot_box_[3].data(), *hi1 = slot_box_[4].data(), *hi2 = slot_box_[5].data();
   const float a_lo0 = lo0[k], a_lo1 = lo1[k], a_lo2 = lo2[k], a_hi0 = hi0[k], a_hi1 = hi1[k], a_hi2 = hi2[k];
   // Boxes overlap: the pair is a candidate if the chord filter keeps it too (step_chord.hpp).
-  auto keep = [this, k](std::size_t m) { return chords_keep(k, m); };
+  auto keep = [&](std::size_t m) {
+    if (!chord.ready) chord = chord_line(k);
+    return chords_keep(chord, m);
+  };
   // Short ranges (sparse populations) one slot at a time: the lanes' fixed cost would dominate.
   if (last - first < kLanes / 2 || last <= first) {
     for (std::size_t m = first; m < last; ++m) {
@@ -494,17 +496,17 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, std::size_t first, std::size
   }
 }
 
-void BroadPhaseGrid::pair_with_buckets(std::size_t k, std::size_t first_bucket, std::size_t count,
-                                       std::size_t from, std::uint64_t key_lo, std::uint64_t span,
-                                       std::vector<CandidatePair>& out) const {
+void BroadPhaseGrid::pair_with_buckets(std::size_t k, ChordLine& chord, std::size_t first_bucket,
+                                       std::size_t count, std::size_t from, std::uint64_t key_lo,
+                                       std::uint64_t span, std::vector<CandidatePair>& out) const {
   if (first_bucket + count <= bucket_mask_ + 1) {
     // One contiguous range (`from` lies in the first bucket or before it).
-    pair_with_slots(k, std::max<std::size_t>(bucket_start_[first_bucket], from),
+    pair_with_slots(k, chord, std::max<std::size_t>(bucket_start_[first_bucket], from),
                     bucket_start_[first_bucket + count], key_lo, span, out);
   } else {
     for (std::size_t d = 0; d < count; ++d) {  // wraps around the end of the table
       const std::size_t b = (first_bucket + d) & bucket_mask_;
-      pair_with_slots(k, d == 0 ? std::max<std::size_t>(bucket_start_[b], from) : bucket_start_[b],
+      pair_with_slots(k, chord, d == 0 ? std::max<std::size_t>(bucket_start_[b], from) : bucket_start_[b],
                       bucket_start_[b + 1], key_lo, span, out);
     }
   }
@@ -517,8 +519,9 @@ void BroadPhaseGrid::collect_pairs(std::size_t slot_begin, std::size_t slot_end,
     const std::uint32_t crosses = slot_crosses_[k];
     // z cells of a neighbour row: z - 1 and z, and z + 1 only if the box reaches into the next z cell.
     const std::size_t z_cells = (crosses & 4u) ? 3 : 2;
+    ChordLine chord;
     // Own row: the same cell (slots after k) and the next z cell, in buckets b and b + 1.
-    pair_with_buckets(k, bucket_of(key), z_cells - 1, k + 1, key, 1, out);
+    pair_with_buckets(k, chord, bucket_of(key), z_cells - 1, k + 1, key, 1, out);
     // The forward rows, z cells -1..+1: buckets b' - 1 .. b' + 1. Rows at y + 1 only if the box
     // reaches into the next y cell, rows at x + 1 only if it reaches into the next x cell.
     for (int r = 0; r < 4; ++r) {
@@ -528,7 +531,7 @@ void BroadPhaseGrid::collect_pairs(std::size_t slot_begin, std::size_t slot_end,
       const std::size_t b = (bucket_of(centre) - 1) & bucket_mask_;
       // Many neighbour rows are empty: the occupancy bitmap answers.
       if (!any_occupied(b, z_cells)) continue;
-      pair_with_buckets(k, b, z_cells, 0, centre - 1, z_cells - 1, out);
+      pair_with_buckets(k, chord, b, z_cells, 0, centre - 1, z_cells - 1, out);
     }
   }
 }

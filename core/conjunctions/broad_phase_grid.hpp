@@ -126,6 +126,29 @@ class BroadPhaseGrid {
   std::size_t rekeyed_builds() const { return rekeyed_builds_; }
 
  private:
+  // A slot's line for the chord filter (step_chord.hpp): the corners of its box chosen by its direction
+  // bits, and its reach.
+  struct ChordLine {
+    double start[3], end[3];
+    double reach_m;
+    bool ready = false;  // computed on a slot's first box hit: in sparse populations most have none
+  };
+  ChordLine chord_line(std::size_t k) const {
+    ChordLine line;
+    const unsigned ends = slot_crosses_[k] >> 3;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double lo = slot_box_[axis][k], hi = slot_box_[3 + axis][k];
+      // rising ? lo : hi without a branch (the bits are random): exact, lo - hi is a double of floats.
+      const double rising = static_cast<double>((ends >> axis) & 1u);
+      line.start[axis] = hi + rising * (lo - hi);
+      line.end[axis] = lo + rising * (hi - lo);
+    }
+    line.reach_m = slot_reach_[k];
+    line.ready = true;
+    return line;
+  }
+  // Whether the chord filter keeps slot m with the slot whose line is `a` (their boxes overlap).
+  bool chords_keep(const ChordLine& a, std::size_t m) const;
   // Bucket of a cell: a hash of its row (x, y) plus its z cell, so the cells of a row along z fall in
   // consecutive buckets (and, sorted by bucket, in consecutive slots): the three z neighbours of a
   // cell are one contiguous range, usually on one cache line of the bucket table.
@@ -136,11 +159,12 @@ class BroadPhaseGrid {
   }
   // Pairs of slot k with the slots of buckets [first_bucket, first_bucket + count) (mod the table;
   // in the first bucket only from slot `from` on), whose cell keys are in [key_lo, key_lo + span].
-  void pair_with_buckets(std::size_t k, std::size_t first_bucket, std::size_t count, std::size_t from,
-                         std::uint64_t key_lo, std::uint64_t span, std::vector<CandidatePair>& out) const;
+  void pair_with_buckets(std::size_t k, ChordLine& chord, std::size_t first_bucket, std::size_t count,
+                         std::size_t from, std::uint64_t key_lo, std::uint64_t span,
+                         std::vector<CandidatePair>& out) const;
   // Pairs of slot k with the slots [first, last) whose cell keys are in [key_lo, key_lo + span].
-  void pair_with_slots(std::size_t k, std::size_t first, std::size_t last, std::uint64_t key_lo,
-                       std::uint64_t span, std::vector<CandidatePair>& out) const;
+  void pair_with_slots(std::size_t k, ChordLine& chord, std::size_t first, std::size_t last,
+                       std::uint64_t key_lo, std::uint64_t span, std::vector<CandidatePair>& out) const;
   // Whether any of the buckets [first_bucket, first_bucket + count) (mod the table) holds a slot.
   bool any_occupied(std::size_t first_bucket, std::size_t count) const {
     for (std::size_t d = 0; d < count; ++d) {
@@ -168,19 +192,6 @@ class BroadPhaseGrid {
     std::uint32_t ends;
     float reach_m;
   };
-  // Whether the chord filter keeps slots k and m, whose boxes overlap .
-  bool chords_keep(std::size_t k, std::size_t m) const;
-  // The ends of slot k's chord as the filter takes them: box corners chosen by its direction bits.
-  void chord_corners(std::size_t k, double start[3], double end[3]) const {
-    const unsigned ends = slot_crosses_[k] >> 3;
-    for (int axis = 0; axis < 3; ++axis) {
-      const double lo = slot_box_[axis][k], hi = slot_box_[3 + axis][k];
-      // rising ? lo : hi without a branch (the bits are random): exact, lo - hi is a double of floats.
-      const double rising = static_cast<double>((ends >> axis) & 1u);
-      start[axis] = hi + rising * (lo - hi);
-      end[axis] = lo + rising * (hi - lo);
-    }
-  }
 
   double cell_size_m_ = 0.0;
   // The cell edge to try first in the next build: the candidates never depend on it (only on the boxes),
