@@ -8,6 +8,7 @@
 
 #include "core/conjunctions/hermite_hull.hpp"
 #include "core/conjunctions/narrow_phase_hermite.hpp"
+#include "tests/conjunctions/random_encounter.hpp"
 
 namespace kessler {
 namespace {
@@ -36,18 +37,13 @@ Tally run_pairs(double radius_m, double dt, double threshold_m, unsigned seed) {
   std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
   Tally tally;
   for (int trial = 0; trial < 20000; ++trial) {
-    double meet[3], n = 0.0;
-    for (double& x : meet) {
-      x = u(rng);
-      n += x * x;
-    }
-    for (double& x : meet) x *= radius_m / std::sqrt(n);
-    const double g = 3.986004418e14 / (radius_m * radius_m);
+    const testing::MeetingPoint point = testing::random_meeting_point(rng, radius_m);
+    const double* meet = point.position_m;
     double va[3], vb[3], acc[3], miss[3];
     for (int k = 0; k < 3; ++k) {
       va[k] = 7500.0 * u(rng);
       vb[k] = 7500.0 * u(rng);
-      acc[k] = -g * meet[k] / radius_m;
+      acc[k] = point.gravity_m_s2[k];
       miss[k] = u(rng) * threshold_m * 1.2;
     }
     const double t_meet = dt * unit(rng);

@@ -13,6 +13,7 @@
 
 #include "core/conjunctions/broad_phase_grid.hpp"
 #include "core/conjunctions/narrow_phase_hermite.hpp"
+#include "tests/conjunctions/random_encounter.hpp"
 
 namespace kessler {
 namespace {
@@ -36,18 +37,14 @@ Tally run_scenes(int scenes, double radius_m, double dt, double threshold_m, uns
   start.resize(2 * static_cast<std::size_t>(scenes));
   end.resize(2 * static_cast<std::size_t>(scenes));
   for (int scene = 0; scene < scenes; ++scene) {
-    double meet[3], n = 0.0;
-    for (double& x : meet) {
-      x = u(rng);
-      n += x * x;
-    }
-    for (double& x : meet) x *= radius_m / std::sqrt(n);
+    const testing::MeetingPoint point = testing::random_meeting_point(rng, radius_m);
+    const double* meet = point.position_m;
     const double g = 3.986004418e14 / (radius_m * radius_m);
     double va[3], vb[3], acc_a[3], acc_b[3], miss[3];
     for (int k = 0; k < 3; ++k) {
       va[k] = 7500.0 * u(rng);
       vb[k] = 7500.0 * u(rng);
-      acc_a[k] = -g * meet[k] / radius_m;
+      acc_a[k] = point.gravity_m_s2[k];
       acc_b[k] = acc_a[k] + 0.2 * g * u(rng);
       miss[k] = u(rng) * threshold_m * 1.2;
     }
