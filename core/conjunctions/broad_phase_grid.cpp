@@ -466,11 +466,36 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, ChordLine& chord, std::size_
     for (std::size_t m = first; m < last; ++m) {
       const bool overlap = (a_lo0 <= hi0[m]) & (lo0[m] <= a_hi0) & (a_lo1 <= hi1[m]) & (lo1[m] <= a_hi1) &
                            (a_lo2 <= hi2[m]) & (lo2[m] <= a_hi2);
-      if (overlap & (slot_key_[m] - key_lo <= span))  // one branch: both outcomes are hard to predict
-        if (keep(m)) out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
+      if (overlap && keep(m) && slot_key_[m] - key_lo <= span)
+        out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
     }
     return;
   }
+#ifdef __AVX512F__
+  // 16 box tests at once into a mask register (ordered compares: false with NaN, as above); slots past
+  // `last` are read (the arrays are padded) and masked off.
+  static_assert(kLanes == 16);
+  const __m512 lo0_a = _mm512_set1_ps(a_lo0), lo1_a = _mm512_set1_ps(a_lo1), lo2_a = _mm512_set1_ps(a_lo2);
+  const __m512 hi0_a = _mm512_set1_ps(a_hi0), hi1_a = _mm512_set1_ps(a_hi1), hi2_a = _mm512_set1_ps(a_hi2);
+  for (std::size_t base = first; base < last; base += kLanes) {
+    __mmask16 hits = _mm512_cmp_ps_mask(lo0_a, _mm512_loadu_ps(hi0 + base), _CMP_LE_OQ);
+    hits = _mm512_mask_cmp_ps_mask(hits, _mm512_loadu_ps(lo0 + base), hi0_a, _CMP_LE_OQ);
+    hits = _mm512_mask_cmp_ps_mask(hits, lo1_a, _mm512_loadu_ps(hi1 + base), _CMP_LE_OQ);
+    hits = _mm512_mask_cmp_ps_mask(hits, _mm512_loadu_ps(lo1 + base), hi1_a, _CMP_LE_OQ);
+    hits = _mm512_mask_cmp_ps_mask(hits, lo2_a, _mm512_loadu_ps(hi2 + base), _CMP_LE_OQ);
+    hits = _mm512_mask_cmp_ps_mask(hits, _mm512_loadu_ps(lo2 + base), hi2_a, _CMP_LE_OQ);
+    std::uint32_t bits = hits;
+    if (last - base < kLanes) bits &= (std::uint32_t{1} << (last - base)) - 1u;
+    while (bits != 0) {
+      const std::size_t m = base + static_cast<std::size_t>(std::countr_zero(bits));
+      bits &= bits - 1;
+      // The cell (buckets hold other cells too: without this check a pair could be found from both
+      // sides) after the chord filter, which drops nearly every pair: most hits never load the key.
+      if (keep(m) && slot_key_[m] - key_lo <= span)
+        out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
+    }
+  }
+#else
   for (std::size_t base = first; base < last; base += kLanes) {
     // kLanes box tests at once, without branches (slots past `last` are read, then masked off).
     unsigned char hit[kLanes];
@@ -488,12 +513,14 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, ChordLine& chord, std::size_
         const std::size_t m = base + 8 * w + static_cast<std::size_t>(std::countr_zero(bits)) / 8;
         bits &= bits - 1;
         if (m >= last) break;
-        // The cell: buckets hold other cells too.
-        if (slot_key_[m] - key_lo <= span && keep(m))
+        // The cell (buckets hold other cells too: without this check a pair could be found from both
+        // sides) after the chord filter, which drops nearly every pair: most hits never load the key.
+        if (keep(m) && slot_key_[m] - key_lo <= span)
           out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
       }
     }
   }
+#endif
 }
 
 void BroadPhaseGrid::pair_with_buckets(std::size_t k, ChordLine& chord, std::size_t first_bucket,
