@@ -477,6 +477,21 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, ChordLine& chord, std::size_
   static_assert(kLanes == 16);
   const __m512 lo0_a = _mm512_set1_ps(a_lo0), lo1_a = _mm512_set1_ps(a_lo1), lo2_a = _mm512_set1_ps(a_lo2);
   const __m512 hi0_a = _mm512_set1_ps(a_hi0), hi1_a = _mm512_set1_ps(a_hi1), hi2_a = _mm512_set1_ps(a_hi2);
+  // The hits are gathered first and filtered after: a call inside the lanes' loop (the chord filter)
+  // would make the compiler spill and reload every pointer and broadcast around it on each pass.
+  constexpr std::size_t kHitBuffer = 64;
+  std::uint32_t found[kHitBuffer];
+  std::size_t found_count = 0;
+  auto filter_found = [&] {
+    for (std::size_t h = 0; h < found_count; ++h) {
+      const std::size_t m = found[h];
+      // The cell (buckets hold other cells too: without this check a pair could be found from both
+      // sides) after the chord filter, which drops nearly every pair: most hits never load the key.
+      if (keep(m) && slot_key_[m] - key_lo <= span)
+        out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
+    }
+    found_count = 0;
+  };
   for (std::size_t base = first; base < last; base += kLanes) {
     __mmask16 hits = _mm512_cmp_ps_mask(lo0_a, _mm512_loadu_ps(hi0 + base), _CMP_LE_OQ);
     hits = _mm512_mask_cmp_ps_mask(hits, _mm512_loadu_ps(lo0 + base), hi0_a, _CMP_LE_OQ);
@@ -487,14 +502,13 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, ChordLine& chord, std::size_
     std::uint32_t bits = hits;
     if (last - base < kLanes) bits &= (std::uint32_t{1} << (last - base)) - 1u;
     while (bits != 0) {
-      const std::size_t m = base + static_cast<std::size_t>(std::countr_zero(bits));
+      found[found_count++] =
+          static_cast<std::uint32_t>(base + static_cast<std::size_t>(std::countr_zero(bits)));
       bits &= bits - 1;
-      // The cell (buckets hold other cells too: without this check a pair could be found from both
-      // sides) after the chord filter, which drops nearly every pair: most hits never load the key.
-      if (keep(m) && slot_key_[m] - key_lo <= span)
-        out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
     }
+    if (found_count > kHitBuffer - kLanes) filter_found();
   }
+  filter_found();
 #else
   for (std::size_t base = first; base < last; base += kLanes) {
     // kLanes box tests at once, without branches (slots past `last` are read, then masked off).
