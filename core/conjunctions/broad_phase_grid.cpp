@@ -461,19 +461,11 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, ChordLine& chord, std::size_
     if (!chord.ready) chord = chord_line(k);
     return chords_keep(chord, m);
   };
-  // Short ranges (sparse populations) one slot at a time: the lanes' fixed cost would dominate.
-  if (last - first < kLanes / 2 || last <= first) {
-    for (std::size_t m = first; m < last; ++m) {
-      const bool overlap = (a_lo0 <= hi0[m]) & (lo0[m] <= a_hi0) & (a_lo1 <= hi1[m]) & (lo1[m] <= a_hi1) &
-                           (a_lo2 <= hi2[m]) & (lo2[m] <= a_hi2);
-      if (overlap && keep(m) && slot_key_[m] - key_lo <= span)
-        out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
-    }
-    return;
-  }
+  if (last <= first) return;
 #ifdef __AVX512F__
-  // 16 box tests at once into a mask register (ordered compares: false with NaN, as above); slots past
-  // `last` are read (the arrays are padded) and masked off.
+  // 16 box tests at once into a mask register (ordered compares: false with NaN, as the scalar test
+  // below); slots past `last` are read (the arrays are padded) and masked off. Even a range of one or
+  // two slots is cheaper this way than one slot at a time (20k objects: 134 -> 127 ns per object-step).
   static_assert(kLanes == 16);
   const __m512 lo0_a = _mm512_set1_ps(a_lo0), lo1_a = _mm512_set1_ps(a_lo1), lo2_a = _mm512_set1_ps(a_lo2);
   const __m512 hi0_a = _mm512_set1_ps(a_hi0), hi1_a = _mm512_set1_ps(a_hi1), hi2_a = _mm512_set1_ps(a_hi2);
@@ -510,6 +502,16 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, ChordLine& chord, std::size_
   }
   filter_found();
 #else
+  // Short ranges (sparse populations) one slot at a time: the lanes' fixed cost would dominate.
+  if (last - first < kLanes / 2) {
+    for (std::size_t m = first; m < last; ++m) {
+      const bool overlap = (a_lo0 <= hi0[m]) & (lo0[m] <= a_hi0) & (a_lo1 <= hi1[m]) & (lo1[m] <= a_hi1) &
+                           (a_lo2 <= hi2[m]) & (lo2[m] <= a_hi2);
+      if (overlap && keep(m) && slot_key_[m] - key_lo <= span)
+        out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
+    }
+    return;
+  }
   for (std::size_t base = first; base < last; base += kLanes) {
     // kLanes box tests at once, without branches (slots past `last` are read, then masked off).
     unsigned char hit[kLanes];
