@@ -131,7 +131,9 @@ void expect_grid_matches_all_pairs(const StateArrays& s, double dt, double share
     }
   }
   EXPECT_GT(close, 100u);  // the population is dense enough to exercise neighbour cells
-  if (expect_drops) EXPECT_GT(overlapping_apart, 5 * close);  // the chord filter drops most box pairs
+  if (expect_drops) {
+    EXPECT_GT(overlapping_apart, 5 * close);  // the chord filter drops most box pairs
+  }
 }
 
 TEST(BroadPhaseGrid, EveryOverlappingPairOnceInADenseCloud) {
