@@ -65,59 +65,36 @@ inline void min_max4(double a, double b, double c, double d, double& lo, double&
   hi = std::max(std::max(a, b), std::max(c, d));
 }
 
-// The box pass's inputs and outputs as plain arrays (see grow_boxes).
-struct BoxPassInput {
-  BoxPassInput(const StateArrays& s0, const StateArrays& s1, const ThresholdShare& share, double reach_s,
-               double max_motion_m)
-      : x0(s0.x.data()),
-        y0(s0.y.data()),
-        z0(s0.z.data()),
-        vx0(s0.vx.data()),
-        vy0(s0.vy.data()),
-        vz0(s0.vz.data()),
-        x1(s1.x.data()),
-        y1(s1.y.data()),
-        z1(s1.z.data()),
-        vx1(s1.vx.data()),
-        vy1(s1.vy.data()),
-        vz1(s1.vz.data()),
-        radius(share.radius_m),
-        kappa(share.kappa),
-        fixed_share(share.fixed_m),
-        reach_s(reach_s),
-        max_motion_m(max_motion_m) {}
-  const double *x0, *y0, *z0, *vx0, *vy0, *vz0, *x1, *y1, *z1, *vx1, *vy1, *vz1;
-  const double* radius;  // null: every object's share is fixed_share
-  double kappa, fixed_share;
-  double reach_s;  // dt / 3 (Hermite: the inner control points' offsets dt v / 3) or dt (the line)
-  double max_motion_m;
-};
+// The box pass's outputs, arrays per object (see grow_boxes).
 struct BoxPassOutput {
   float *lo[3], *hi[3];
   float* reach;
   std::uint32_t* flags;  // bits 0-2: the chord's direction per axis; kOversizedFlag
 };
+constexpr std::uint32_t kChordEndsMask = 7u;
 constexpr std::uint32_t kOversizedFlag = 8u;
 
 // Each object's grown box rounded outwards to floats, the chord filter's direction bits and reach
-// (step_chord.hpp), and whether it is oversized. Every pointer is a local restrict copy (read through a
+// (step_chord.hpp), and whether it is oversized; `reach` is dt / 3 (Hermite: the inner control points'
+// offsets dt v / 3) or dt (the line). Every pointer is a local restrict copy (read through a
 // struct or a vector, the loop would reload it after each store), and the loop has no reduction (GCC
 // 12 then emits it scalar in spite of reporting it vectorised): both would leave it scalar.
 template <bool kHermite, bool kRadii>
-void grow_boxes(const BoxPassInput& in, const BoxPassOutput& out, std::size_t begin, std::size_t end) {
-  const double* __restrict x0 = in.x0;
-  const double* __restrict y0 = in.y0;
-  const double* __restrict z0 = in.z0;
-  const double* __restrict vx0 = in.vx0;
-  const double* __restrict vy0 = in.vy0;
-  const double* __restrict vz0 = in.vz0;
-  const double* __restrict x1 = in.x1;
-  const double* __restrict y1 = in.y1;
-  const double* __restrict z1 = in.z1;
-  const double* __restrict vx1 = in.vx1;
-  const double* __restrict vy1 = in.vy1;
-  const double* __restrict vz1 = in.vz1;
-  const double* __restrict radius = in.radius;
+void grow_boxes(const StateArrays& s0, const StateArrays& s1, const ThresholdShare& share, double reach,
+                double max_motion, const BoxPassOutput& out, std::size_t begin, std::size_t end) {
+  const double* __restrict x0 = s0.x.data();
+  const double* __restrict y0 = s0.y.data();
+  const double* __restrict z0 = s0.z.data();
+  const double* __restrict vx0 = s0.vx.data();
+  const double* __restrict vy0 = s0.vy.data();
+  const double* __restrict vz0 = s0.vz.data();
+  const double* __restrict x1 = s1.x.data();
+  const double* __restrict y1 = s1.y.data();
+  const double* __restrict z1 = s1.z.data();
+  const double* __restrict vx1 = s1.vx.data();
+  const double* __restrict vy1 = s1.vy.data();
+  const double* __restrict vz1 = s1.vz.data();
+  const double* __restrict radius = share.radius_m;  // null: every object's share is fixed_share
   float* __restrict lo_x = out.lo[0];
   float* __restrict lo_y = out.lo[1];
   float* __restrict lo_z = out.lo[2];
@@ -126,8 +103,7 @@ void grow_boxes(const BoxPassInput& in, const BoxPassOutput& out, std::size_t be
   float* __restrict hi_z = out.hi[2];
   float* __restrict reach_out = out.reach;
   std::uint32_t* __restrict flags = out.flags;
-  const double kappa = in.kappa, fixed_share = in.fixed_share, reach = in.reach_s;
-  const double max_motion = in.max_motion_m;
+  const double kappa = share.kappa, fixed_share = share.fixed_m;
 #pragma omp simd
   for (std::size_t i = begin; i < end; ++i) {
     const double grow = (kRadii ? kappa * radius[i] : fixed_share) + kRoundingMargin_m;
@@ -268,7 +244,6 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
         box.lo[k] = box_lo_[k][i];
         box.hi[k] = box_hi_[k][i];
       }
-      box.ends = box_flags_[i] & 7u;
       box.reach_m = box_reach_[i];
       const std::uint64_t cx = axis_cell(box.lo[0], inverse_cell), cy = axis_cell(box.lo[1], inverse_cell),
                           cz = axis_cell(box.lo[2], inverse_cell);
@@ -278,22 +253,26 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       // every lower corner of a later cell on that axis.
       box.crosses = (axis_cell(box.hi[0], inverse_cell) != cx ? 1u : 0u) |
                     (axis_cell(box.hi[1], inverse_cell) != cy ? 2u : 0u) |
-                    (axis_cell(box.hi[2], inverse_cell) != cz ? 4u : 0u);
+                    (axis_cell(box.hi[2], inverse_cell) != cz ? 4u : 0u) |
+                    (box_flags_[i] & kChordEndsMask) << kChordEndsShift;
       if (!oversized_flag_[i]) ++counts[bucket_of(box.key) >> fine_bits_];
     }
   };
 
   // Pass 1: grown boxes, the chord filter's data, the oversized objects and the largest edge (in its own
   // function, on plain arrays, so that it vectorises), then (with the guessed cell) keys.
-  BoxPassInput in{s0, s1, share, hermite ? dt / 3.0 : dt, max_motion_m};
-  BoxPassOutput out{{box_lo_[0].data(), box_lo_[1].data(), box_lo_[2].data()},
-                    {box_hi_[0].data(), box_hi_[1].data(), box_hi_[2].data()},
-                    box_reach_.data(),
-                    box_flags_.data()};
+  const double reach = hermite ? dt / 3.0 : dt;
+  const BoxPassOutput out{{box_lo_[0].data(), box_lo_[1].data(), box_lo_[2].data()},
+                          {box_hi_[0].data(), box_hi_[1].data(), box_hi_[2].data()},
+                          box_reach_.data(),
+                          box_flags_.data()};
+  const bool radii = share.radius_m != nullptr;
   if (hermite) {
-    in.radius ? grow_boxes<true, true>(in, out, begin, end) : grow_boxes<true, false>(in, out, begin, end);
+    radii ? grow_boxes<true, true>(s0, s1, share, reach, max_motion_m, out, begin, end)
+          : grow_boxes<true, false>(s0, s1, share, reach, max_motion_m, out, begin, end);
   } else {
-    in.radius ? grow_boxes<false, true>(in, out, begin, end) : grow_boxes<false, false>(in, out, begin, end);
+    radii ? grow_boxes<false, true>(s0, s1, share, reach, max_motion_m, out, begin, end)
+          : grow_boxes<false, false>(s0, s1, share, reach, max_motion_m, out, begin, end);
   }
   // The oversized objects, and the largest edge of the others.
   HermiteHull* const hulls = hull_.data();
@@ -418,7 +397,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
         slot_box_[3 + axis][k] = box.hi[axis];
       }
       slot_key_[k] = box.key;
-      slot_crosses_[k] = static_cast<std::uint8_t>(box.crosses | box.ends << 3);
+      slot_crosses_[k] = static_cast<std::uint8_t>(box.crosses);
       slot_index_[k] = box.index;
       slot_reach_[k] = box.reach_m;
     });
@@ -456,10 +435,14 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, ChordLine& chord, std::size_
   const float *lo0 = slot_box_[0].data(), *lo1 = slot_box_[1].data(), *lo2 = slot_box_[2].data();
   const float *hi0 = slot_box_[3].data(), *hi1 = slot_box_[4].data(), *hi2 = slot_box_[5].data();
   const float a_lo0 = lo0[k], a_lo1 = lo1[k], a_lo2 = lo2[k], a_hi0 = hi0[k], a_hi1 = hi1[k], a_hi2 = hi2[k];
-  // Boxes overlap: the pair is a candidate if the chord filter keeps it too (step_chord.hpp).
-  auto keep = [&](std::size_t m) {
+  // Boxes overlap: the pair is a candidate if the chord filter keeps it too (step_chord.hpp), and if
+  // slot m is in the cell asked for (buckets hold other cells too: without this check a pair could be
+  // found from both sides). The key is checked last: the filter drops nearly every pair, so most hits
+  // never load it.
+  auto consider = [&](std::size_t m) {
     if (!chord.ready) chord = chord_line(k);
-    return chords_keep(chord, m);
+    if (chords_keep(chord, m) && slot_key_[m] - key_lo <= span)
+      out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
   };
   if (last <= first) return;
 #ifdef __AVX512F__
@@ -475,13 +458,7 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, ChordLine& chord, std::size_
   std::uint32_t found[kHitBuffer];
   std::size_t found_count = 0;
   auto filter_found = [&] {
-    for (std::size_t h = 0; h < found_count; ++h) {
-      const std::size_t m = found[h];
-      // The cell (buckets hold other cells too: without this check a pair could be found from both
-      // sides) after the chord filter, which drops nearly every pair: most hits never load the key.
-      if (keep(m) && slot_key_[m] - key_lo <= span)
-        out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
-    }
+    for (std::size_t h = 0; h < found_count; ++h) consider(found[h]);
     found_count = 0;
   };
   for (std::size_t base = first; base < last; base += kLanes) {
@@ -507,8 +484,7 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, ChordLine& chord, std::size_
     for (std::size_t m = first; m < last; ++m) {
       const bool overlap = (a_lo0 <= hi0[m]) & (lo0[m] <= a_hi0) & (a_lo1 <= hi1[m]) & (lo1[m] <= a_hi1) &
                            (a_lo2 <= hi2[m]) & (lo2[m] <= a_hi2);
-      if (overlap && keep(m) && slot_key_[m] - key_lo <= span)
-        out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
+      if (overlap) consider(m);
     }
     return;
   }
@@ -529,10 +505,7 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, ChordLine& chord, std::size_
         const std::size_t m = base + 8 * w + static_cast<std::size_t>(std::countr_zero(bits)) / 8;
         bits &= bits - 1;
         if (m >= last) break;
-        // The cell (buckets hold other cells too: without this check a pair could be found from both
-        // sides) after the chord filter, which drops nearly every pair: most hits never load the key.
-        if (keep(m) && slot_key_[m] - key_lo <= span)
-          out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
+        consider(m);
       }
     }
   }

@@ -139,7 +139,7 @@ class BroadPhaseGrid {
   };
   ChordLine chord_line(std::size_t k) const {
     ChordLine line;
-    const unsigned ends = slot_crosses_[k] >> 3;
+    const unsigned ends = slot_crosses_[k] >> kChordEndsShift;
     for (int axis = 0; axis < 3; ++axis) {
       const double lo = slot_box_[axis][k], hi = slot_box_[3 + axis][k];
       // rising ? lo : hi without a branch (the bits are random): exact, lo - hi is a double of floats.
@@ -178,23 +178,23 @@ class BroadPhaseGrid {
     return false;
   }
 
+  static constexpr int kChordEndsShift = 3;
   static constexpr int kRowShift = 21;
   static constexpr std::uint64_t kZMask = (std::uint64_t{1} << kRowShift) - 1;
 
-  // One object's grown box (rounded outwards to floats), cell key, population index and chord data: 48 bytes,
-  // and the whole record the sort moves, so sorting never reads another thread's boxes at random.
+  // One object's grown box (rounded outwards to floats), cell key, population index and chord reach: 48
+  // bytes, and the whole record the sort moves, so sorting never reads another thread's boxes at random.
   struct GridBox {
     float lo[3], hi[3];
-    // Which axes the box crosses into the next cell on (bit 0: x, 1: y, 2: z). A box that stays in its
+    // Bits 0-2: which axes the box crosses into the next cell on (x, y, z). A box that stays in its
     // cell along an axis cannot overlap a box whose lower corner lies in a later cell on that axis, so
     // the walk skips those forward neighbours (exact: the same candidates, fewer cells visited).
+    // Bits 3-5 (kChordEndsShift): for the chord filter (step_chord.hpp), which box corner stands for
+    // the chord's start on each axis (bit set: the lower one, and the upper one for its end).
     std::uint32_t crosses;
     std::uint32_t index;
     std::uint64_t key;
-    // The chord filter (step_chord.hpp): which box corner stands for the chord's start on each axis
-    // (bit k set: the lower one, and the upper one for its end), and the object's reach.
-    std::uint32_t ends;
-    float reach_m;
+    float reach_m;  // the chord filter's reach
   };
 
   double cell_size_m_ = 0.0;
@@ -217,7 +217,7 @@ class BroadPhaseGrid {
   static constexpr std::size_t kLanes = 16;
   std::vector<float> slot_box_[6];
   std::vector<std::uint64_t> slot_key_;
-  std::vector<std::uint8_t> slot_crosses_;  // crossing bits (0-2) and chord direction bits (3-5)
+  std::vector<std::uint8_t> slot_crosses_;  // GridBox::crosses
   std::vector<std::uint32_t> slot_index_;
   std::vector<float> slot_reach_;
   std::vector<HermiteHull> hull_;  // per object, with Hermite motion
