@@ -184,17 +184,18 @@ void SymplecticPropagator::advance(Population& population, double t_start_s, dou
   const bool substep_low = model_.settings().drag;
   const StepPlan plan = plan_step(model_, composition_, t_start_s, dt_s);
   StepPlan sub_plans[kLowAltitudeSubsteps];
-  if (substep_low)
+  if (substep_low) {
+    const double h = dt_s / kLowAltitudeSubsteps;
     for (int sub = 0; sub < kLowAltitudeSubsteps; ++sub)
-      sub_plans[sub] = plan_step(model_, composition_, t_start_s + sub * (dt_s / kLowAltitudeSubsteps),
-                                 dt_s / kLowAltitudeSubsteps);
-  if (substep_low) low_flag_.resize(n);
+      sub_plans[sub] = plan_step(model_, composition_, t_start_s + sub * h, h);
+    low_flag_.resize(n);
+  }
   low_by_thread_.resize(static_cast<std::size_t>(threads));
   for (ThreadLow& low : low_by_thread_) low.index.clear();  // OpenMP may give fewer threads
-    // One region: each thread flags the low objects of its own chunk (thread_chunks.hpp) and propagates
-    // the chunk, so no core touches another's states; then the low objects' sub-steps are shared out.
 #pragma omp parallel num_threads(threads)
   {
+    // One region: each thread flags the low objects of its own chunk (thread_chunks.hpp) and propagates
+    // the chunk, so no core touches another's states; then the low objects' sub-steps are shared out.
     const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());
     const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
     const auto [begin, end] = thread_chunk(n, t, team);
