@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
+#include <type_traits>
 
 #include <omp.h>
 
@@ -397,7 +398,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
         slot_box_[3 + axis][k] = box.hi[axis];
       }
       slot_key_[k] = box.key;
-      slot_crosses_[k] = static_cast<std::uint8_t>(box.crosses);
+      slot_crosses_[k] = box.crosses;
       slot_index_[k] = box.index;
       slot_reach_[k] = box.reach_m;
     });
@@ -424,67 +425,179 @@ void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
   }
 }
 
-bool BroadPhaseGrid::chords_keep(const ChordLine& a, std::size_t m) const {
-  const ChordLine b = chord_line(m);
-  return chords_may_come_within(a.start, a.end, a.reach_m, b.start, b.end, b.reach_m);
+#ifdef __AVX512F__
+// GCC 12's intrinsics start some results from _mm512_undefined_*(), which -Wmaybe-uninitialized
+// mistakes for a read of an uninitialised value once inlined.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+void BroadPhaseGrid::filter_hits(HitBatch& hits, std::vector<CandidatePair>& out) const {
+  const float *lo0 = slot_box_[0].data(), *lo1 = slot_box_[1].data(), *lo2 = slot_box_[2].data();
+  const float *hi0 = slot_box_[3].data(), *hi1 = slot_box_[4].data(), *hi2 = slot_box_[5].data();
+  const std::uint32_t* crosses = slot_crosses_.data();
+  const float* reach = slot_reach_.data();
+  const std::uint64_t* key = slot_key_.data();
+  const std::size_t count = hits.count;
+  // Each hit is kept when slot m is in the cell asked for (buckets hold other cells too: without this
+  // check a pair could be found from both sides) and the chord filter (step_chord.hpp) keeps the pair.
+  // A slot's line for the filter is the corners of its box chosen by its direction bits: rising ? lo
+  // : hi without a branch (the bits are random), exact since lo - hi of two floats is exact in double.
+#ifdef __AVX512F__
+  // Eight hits at once, the same operations in the same order as the portable code below (so the
+  // same outcome bit for bit), on slots gathered from the arrays.
+  for (std::size_t h = 0; h < count; h += 8) {
+    const __mmask8 valid = count - h >= 8 ? __mmask8{0xFF} : static_cast<__mmask8>((1u << (count - h)) - 1u);
+    const __m256i self = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(hits.self + h));
+    const __m256i other = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(hits.other + h));
+    const __m512d zero = _mm512_setzero_pd();
+    auto gather = [&](const float* array, __m256i slots) {
+      return _mm512_cvtps_pd(_mm256_mmask_i32gather_ps(_mm256_setzero_ps(), valid, slots, array, 4));
+    };
+    auto line = [&](__m256i slots, __m512d start[3], __m512d end[3]) {
+      const __m256i ends = _mm256_srli_epi32(
+          _mm256_mmask_i32gather_epi32(_mm256_setzero_si256(), valid, slots, crosses, 4), kChordEndsShift);
+      const float* const lo[3] = {lo0, lo1, lo2};
+      const float* const hi[3] = {hi0, hi1, hi2};
+      for (int axis = 0; axis < 3; ++axis) {
+        const __m512d l = gather(lo[axis], slots), u = gather(hi[axis], slots);
+        const __m512d rising =
+            _mm512_cvtepi32_pd(_mm256_and_si256(_mm256_srli_epi32(ends, axis), _mm256_set1_epi32(1)));
+        start[axis] = _mm512_add_pd(u, _mm512_mul_pd(rising, _mm512_sub_pd(l, u)));
+        end[axis] = _mm512_add_pd(l, _mm512_mul_pd(rising, _mm512_sub_pd(u, l)));
+      }
+    };
+    __m512d a0[3], a1[3], b0[3], b1[3];
+    line(self, a0, a1);
+    line(other, b0, b1);
+    // chords_may_come_within, lane by lane.
+    __m512d c0[3], u[3], uu = zero, c0u = zero, c0c0 = zero;
+    for (int axis = 0; axis < 3; ++axis) {
+      c0[axis] = _mm512_sub_pd(a0[axis], b0[axis]);
+      u[axis] = _mm512_sub_pd(_mm512_sub_pd(a1[axis], b1[axis]), c0[axis]);
+      uu = _mm512_add_pd(uu, _mm512_mul_pd(u[axis], u[axis]));
+      c0u = _mm512_add_pd(c0u, _mm512_mul_pd(c0[axis], u[axis]));
+      c0c0 = _mm512_add_pd(c0c0, _mm512_mul_pd(c0[axis], c0[axis]));
+    }
+    const __m512d t = _mm512_min_pd(_mm512_max_pd(_mm512_sub_pd(zero, c0u), zero), uu);
+    const __m512d reach_sum = _mm512_add_pd(_mm512_add_pd(gather(reach, self), gather(reach, other)),
+                                            _mm512_set1_pd(kChordMargin_m));
+    const __m512d left =
+        _mm512_add_pd(_mm512_mul_pd(uu, c0c0), _mm512_mul_pd(t, _mm512_add_pd(_mm512_add_pd(c0u, c0u), t)));
+    const __m512d right = _mm512_mul_pd(
+        _mm512_add_pd(
+            _mm512_mul_pd(_mm512_mul_pd(reach_sum, reach_sum), _mm512_set1_pd(1.0 + kChordRelativeSlack)),
+            _mm512_mul_pd(_mm512_set1_pd(kChordCancellationSlack), c0c0)),
+        uu);
+    const __m512i keys = _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), valid, other, key, 8);
+    const __m512i key_lo = _mm512_loadu_si512(hits.key_lo + h);
+    const __m512i span =
+        _mm512_cvtepu32_epi64(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(hits.span + h)));
+    const __mmask8 in_cell = _mm512_mask_cmple_epu64_mask(valid, _mm512_sub_epi64(keys, key_lo), span);
+    unsigned keep = _mm512_mask_cmp_pd_mask(in_cell, left, right, _CMP_LE_OQ);
+    while (keep != 0) {
+      const std::size_t hit = h + static_cast<std::size_t>(std::countr_zero(keep));
+      keep &= keep - 1;
+      out.push_back(CandidatePair{slot_index_[hits.self[hit]], slot_index_[hits.other[hit]]});
+    }
+  }
+#else
+  auto line = [&](std::uint32_t k, double start[3], double end[3]) {
+    const std::uint32_t ends = crosses[k] >> kChordEndsShift;
+    const float* const lo[3] = {lo0, lo1, lo2};
+    const float* const hi[3] = {hi0, hi1, hi2};
+    for (int axis = 0; axis < 3; ++axis) {
+      const double l = lo[axis][k], u = hi[axis][k];
+      const double rising = static_cast<double>((ends >> axis) & 1u);
+      start[axis] = u + rising * (l - u);
+      end[axis] = l + rising * (u - l);
+    }
+  };
+  for (std::size_t h = 0; h < count; ++h) {
+    const std::uint32_t k = hits.self[h], m = hits.other[h];
+    if (key[m] - hits.key_lo[h] > hits.span[h]) continue;
+    double a0[3], a1[3], b0[3], b1[3];
+    line(k, a0, a1);
+    line(m, b0, b1);
+    if (chords_may_come_within(a0, a1, reach[k], b0, b1, reach[m]))
+      out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
+  }
+#endif
+  hits.count = 0;
 }
+#ifdef __AVX512F__
+#pragma GCC diagnostic pop
+#endif
 
-void BroadPhaseGrid::pair_with_slots(std::size_t k, ChordLine& chord, std::size_t first, std::size_t last,
-                                     std::uint64_t key_lo, std::uint64_t span,
+void BroadPhaseGrid::pair_with_slots(std::size_t k, std::size_t first, std::size_t last, std::uint64_t key_lo,
+                                     std::uint64_t span, HitBatch& hits,
                                      std::vector<CandidatePair>& out) const {
+  if (last <= first) return;
   const float *lo0 = slot_box_[0].data(), *lo1 = slot_box_[1].data(), *lo2 = slot_box_[2].data();
   const float *hi0 = slot_box_[3].data(), *hi1 = slot_box_[4].data(), *hi2 = slot_box_[5].data();
   const float a_lo0 = lo0[k], a_lo1 = lo1[k], a_lo2 = lo2[k], a_hi0 = hi0[k], a_hi1 = hi1[k], a_hi2 = hi2[k];
-  // Boxes overlap: the pair is a candidate if the chord filter keeps it too (step_chord.hpp), and if
-  // slot m is in the cell asked for (buckets hold other cells too: without this check a pair could be
-  // found from both sides). The key is checked last: the filter drops nearly every pair, so most hits
-  // never load it.
-  auto consider = [&](std::size_t m) {
-    if (!chord.ready) chord = chord_line(k);
-    if (chords_keep(chord, m) && slot_key_[m] - key_lo <= span)
-      out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
-  };
-  if (last <= first) return;
 #ifdef __AVX512F__
-  // 16 box tests at once into a mask register (ordered compares: false with NaN, as the scalar test
+  // 16 box tests at once into a mask register (ordered compares: false with NaN, as the portable test
   // below); slots past `last` are read (the arrays are padded) and masked off. Even a range of one or
   // two slots is cheaper this way than one slot at a time (20k objects: 134 -> 127 ns per object-step).
   static_assert(kLanes == 16);
   const __m512 lo0_a = _mm512_set1_ps(a_lo0), lo1_a = _mm512_set1_ps(a_lo1), lo2_a = _mm512_set1_ps(a_lo2);
   const __m512 hi0_a = _mm512_set1_ps(a_hi0), hi1_a = _mm512_set1_ps(a_hi1), hi2_a = _mm512_set1_ps(a_hi2);
-  // The hits are gathered first and filtered after: a call inside the lanes' loop (the chord filter)
-  // would make the compiler spill and reload every pointer and broadcast around it on each pass.
-  constexpr std::size_t kHitBuffer = 64;
-  std::uint32_t found[kHitBuffer];
-  std::size_t found_count = 0;
-  auto filter_found = [&] {
-    for (std::size_t h = 0; h < found_count; ++h) consider(found[h]);
-    found_count = 0;
-  };
-  for (std::size_t base = first; base < last; base += kLanes) {
-    __mmask16 hits = _mm512_cmp_ps_mask(lo0_a, _mm512_loadu_ps(hi0 + base), _CMP_LE_OQ);
-    hits = _mm512_mask_cmp_ps_mask(hits, _mm512_loadu_ps(lo0 + base), hi0_a, _CMP_LE_OQ);
-    hits = _mm512_mask_cmp_ps_mask(hits, lo1_a, _mm512_loadu_ps(hi1 + base), _CMP_LE_OQ);
-    hits = _mm512_mask_cmp_ps_mask(hits, _mm512_loadu_ps(lo1 + base), hi1_a, _CMP_LE_OQ);
-    hits = _mm512_mask_cmp_ps_mask(hits, lo2_a, _mm512_loadu_ps(hi2 + base), _CMP_LE_OQ);
-    hits = _mm512_mask_cmp_ps_mask(hits, _mm512_loadu_ps(lo2 + base), hi2_a, _CMP_LE_OQ);
-    std::uint32_t bits = hits;
-    if (last - base < kLanes) bits &= (std::uint32_t{1} << (last - base)) - 1u;
-    while (bits != 0) {
-      found[found_count++] =
-          static_cast<std::uint32_t>(base + static_cast<std::size_t>(std::countr_zero(bits)));
-      bits &= bits - 1;
+  const __m512i self = _mm512_set1_epi32(static_cast<int>(k));
+  const __m512i span_lanes = _mm512_set1_epi32(static_cast<int>(span));
+  const __m512i key_lo_lanes = _mm512_set1_epi64(static_cast<long long>(key_lo));
+  const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  // Dense regions hit in most groups of lanes, at random: there every group is stored without a branch
+  // (a branch on its hits would be mispredicted half the time). Sparse regions, and the long ranges of
+  // dense debris clouds, hit in almost none: there a group is stored only when it hits (a branch
+  // predicted right), saving the stores. Which regime holds is read from the hit rate so far.
+  std::size_t groups = 0, found = 0;
+  auto walk = [&](auto store_every_group) {
+    for (std::size_t base = first; base < last; base += kLanes, ++groups) {
+      __mmask16 hit = _mm512_cmp_ps_mask(lo0_a, _mm512_loadu_ps(hi0 + base), _CMP_LE_OQ);
+      hit = _mm512_mask_cmp_ps_mask(hit, _mm512_loadu_ps(lo0 + base), hi0_a, _CMP_LE_OQ);
+      hit = _mm512_mask_cmp_ps_mask(hit, lo1_a, _mm512_loadu_ps(hi1 + base), _CMP_LE_OQ);
+      hit = _mm512_mask_cmp_ps_mask(hit, _mm512_loadu_ps(lo1 + base), hi1_a, _CMP_LE_OQ);
+      hit = _mm512_mask_cmp_ps_mask(hit, lo2_a, _mm512_loadu_ps(hi2 + base), _CMP_LE_OQ);
+      hit = _mm512_mask_cmp_ps_mask(hit, _mm512_loadu_ps(lo2 + base), hi2_a, _CMP_LE_OQ);
+      if (last - base < kLanes) hit &= static_cast<__mmask16>((1u << (last - base)) - 1u);
+      if constexpr (!decltype(store_every_group)::value) {
+        if (hit == 0) continue;
+      }
+      // The hits' slots, packed, go to the batch's end, and the range's own values into all 16 entries
+      // there, of which the first popcount(hit) count: no branch per hit, whose outcome is random.
+      // (The compress is done in a register: its store form is slow on some cores.)
+      const std::size_t at = hits.count;
+      const __m512i slots = _mm512_add_epi32(_mm512_set1_epi32(static_cast<int>(base)), lane);
+      _mm512_storeu_si512(hits.other + at, _mm512_maskz_compress_epi32(hit, slots));
+      _mm512_storeu_si512(hits.self + at, self);
+      _mm512_storeu_si512(hits.span + at, span_lanes);
+      _mm512_storeu_si512(hits.key_lo + at, key_lo_lanes);
+      _mm512_storeu_si512(hits.key_lo + at + 8, key_lo_lanes);
+      const std::size_t group_hits = static_cast<std::size_t>(std::popcount(static_cast<unsigned>(hit)));
+      hits.count = at + group_hits;
+      found += group_hits;
+      if (hits.nearly_full()) filter_hits(hits, out);
     }
-    if (found_count > kHitBuffer - kLanes) filter_found();
-  }
-  filter_found();
+  };
+  if (hits.dense())
+    walk(std::true_type{});
+  else
+    walk(std::false_type{});
+  hits.record(groups, found);
 #else
+  auto add_hit = [&](std::size_t m) {
+    hits.self[hits.count] = static_cast<std::uint32_t>(k);
+    hits.other[hits.count] = static_cast<std::uint32_t>(m);
+    hits.span[hits.count] = static_cast<std::uint32_t>(span);
+    hits.key_lo[hits.count] = key_lo;
+    if (++hits.count == HitBatch::kCapacity) filter_hits(hits, out);
+  };
   // Short ranges (sparse populations) one slot at a time: the lanes' fixed cost would dominate.
   if (last - first < kLanes / 2) {
     for (std::size_t m = first; m < last; ++m) {
       const bool overlap = (a_lo0 <= hi0[m]) & (lo0[m] <= a_hi0) & (a_lo1 <= hi1[m]) & (lo1[m] <= a_hi1) &
                            (a_lo2 <= hi2[m]) & (lo2[m] <= a_hi2);
-      if (overlap) consider(m);
+      if (overlap) add_hit(m);
     }
     return;
   }
@@ -500,44 +613,42 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, ChordLine& chord, std::size_
     std::uint64_t word[kLanes / 8];
     std::memcpy(word, hit, sizeof hit);
     for (std::size_t w = 0; w < kLanes / 8; ++w) {
-      std::uint64_t bits = word[w];
-      while (bits != 0) {
+      for (std::uint64_t bits = word[w]; bits != 0; bits &= bits - 1) {
         const std::size_t m = base + 8 * w + static_cast<std::size_t>(std::countr_zero(bits)) / 8;
-        bits &= bits - 1;
         if (m >= last) break;
-        consider(m);
+        add_hit(m);
       }
     }
   }
 #endif
 }
 
-void BroadPhaseGrid::pair_with_buckets(std::size_t k, ChordLine& chord, std::size_t first_bucket,
-                                       std::size_t count, std::size_t from, std::uint64_t key_lo,
-                                       std::uint64_t span, std::vector<CandidatePair>& out) const {
+void BroadPhaseGrid::pair_with_buckets(std::size_t k, std::size_t first_bucket, std::size_t count,
+                                       std::size_t from, std::uint64_t key_lo, std::uint64_t span,
+                                       HitBatch& hits, std::vector<CandidatePair>& out) const {
   if (first_bucket + count <= bucket_mask_ + 1) {
     // One contiguous range (`from` lies in the first bucket or before it).
-    pair_with_slots(k, chord, std::max<std::size_t>(bucket_start_[first_bucket], from),
-                    bucket_start_[first_bucket + count], key_lo, span, out);
+    pair_with_slots(k, std::max<std::size_t>(bucket_start_[first_bucket], from),
+                    bucket_start_[first_bucket + count], key_lo, span, hits, out);
   } else {
     for (std::size_t d = 0; d < count; ++d) {  // wraps around the end of the table
       const std::size_t b = (first_bucket + d) & bucket_mask_;
-      pair_with_slots(k, chord, d == 0 ? std::max<std::size_t>(bucket_start_[b], from) : bucket_start_[b],
-                      bucket_start_[b + 1], key_lo, span, out);
+      pair_with_slots(k, d == 0 ? std::max<std::size_t>(bucket_start_[b], from) : bucket_start_[b],
+                      bucket_start_[b + 1], key_lo, span, hits, out);
     }
   }
 }
 
 void BroadPhaseGrid::collect_pairs(std::size_t slot_begin, std::size_t slot_end,
                                    std::vector<CandidatePair>& out) const {
+  HitBatch hits;
   for (std::size_t k = slot_begin; k < slot_end; ++k) {
     const std::uint64_t key = slot_key_[k];
     const std::uint32_t crosses = slot_crosses_[k];
     // z cells of a neighbour row: z - 1 and z, and z + 1 only if the box reaches into the next z cell.
     const std::size_t z_cells = (crosses & 4u) ? 3 : 2;
-    ChordLine chord;
     // Own row: the same cell (slots after k) and the next z cell, in buckets b and b + 1.
-    pair_with_buckets(k, chord, bucket_of(key), z_cells - 1, k + 1, key, 1, out);
+    pair_with_buckets(k, bucket_of(key), z_cells - 1, k + 1, key, 1, hits, out);
     // The forward rows, z cells -1..+1: buckets b' - 1 .. b' + 1. Rows at y + 1 only if the box
     // reaches into the next y cell, rows at x + 1 only if it reaches into the next x cell.
     for (int r = 0; r < 4; ++r) {
@@ -547,9 +658,10 @@ void BroadPhaseGrid::collect_pairs(std::size_t slot_begin, std::size_t slot_end,
       const std::size_t b = (bucket_of(centre) - 1) & bucket_mask_;
       // Many neighbour rows are empty: the occupancy bitmap answers.
       if (!any_occupied(b, z_cells)) continue;
-      pair_with_buckets(k, chord, b, z_cells, 0, centre - 1, z_cells - 1, out);
+      pair_with_buckets(k, b, z_cells, 0, centre - 1, z_cells - 1, hits, out);
     }
   }
+  filter_hits(hits, out);
 }
 
 }  // namespace kessler

@@ -130,29 +130,37 @@ class BroadPhaseGrid {
   std::size_t rekeyed_builds() const { return rekeyed_builds_; }
 
  private:
-  // A slot's line for the chord filter (step_chord.hpp): the corners of its box chosen by its direction
-  // bits, and its reach.
-  struct ChordLine {
-    double start[3], end[3];
-    double reach_m;
-    bool ready = false;  // computed on a slot's first box hit: in sparse populations most have none
-  };
-  ChordLine chord_line(std::size_t k) const {
-    ChordLine line;
-    const unsigned ends = slot_crosses_[k] >> kChordEndsShift;
-    for (int axis = 0; axis < 3; ++axis) {
-      const double lo = slot_box_[axis][k], hi = slot_box_[3 + axis][k];
-      // rising ? lo : hi without a branch (the bits are random): exact, lo - hi is a double of floats.
-      const double rising = static_cast<double>((ends >> axis) & 1u);
-      line.start[axis] = hi + rising * (lo - hi);
-      line.end[axis] = lo + rising * (hi - lo);
+  // The walk's box hits waiting for the chord filter and the cell-key check: slot k (self) with slot
+  // m (other), whose cell key must lie in [key_lo, key_lo + span]. The walk appends whole groups of
+  // lanes without branching on each hit, and filter_hits then runs the filter on many hits at once,
+  // in vector lanes (one hit's filter alone is a long chain of dependent scalar operations).
+  static constexpr std::size_t kLanes = 16;  // box tests at once in the walk
+  struct HitBatch {
+    static constexpr std::size_t kCapacity = 256;
+    std::size_t count = 0;
+    // kLanes entries beyond the capacity: the walk stores a whole group of lanes past the last hit.
+    alignas(64) std::uint32_t self[kCapacity + kLanes];
+    alignas(64) std::uint32_t other[kCapacity + kLanes];
+    alignas(64) std::uint32_t span[kCapacity + kLanes];
+    alignas(64) std::uint64_t key_lo[kCapacity + kLanes];
+    bool nearly_full() const { return count > kCapacity - kLanes; }
+    // The walk's hit rate so far (halved now and then, so it follows the region): groups of lanes
+    // tested, and the hits they gave.
+    std::size_t groups_tested = 0, hits_found = 0;
+    void record(std::size_t groups, std::size_t hits) {
+      groups_tested += groups;
+      hits_found += hits;
+      if (groups_tested >= 4096) {
+        groups_tested /= 2;
+        hits_found /= 2;
+      }
     }
-    line.reach_m = slot_reach_[k];
-    line.ready = true;
-    return line;
-  }
-  // Whether the chord filter keeps slot m with the slot whose line is `a` (their boxes overlap).
-  bool chords_keep(const ChordLine& a, std::size_t m) const;
+    // More than one hit per 4 groups: then storing every group costs less than the branches' misses.
+    bool dense() const { return 4 * hits_found > groups_tested; }
+  };
+  // Appends each hit of the batch that the chord filter keeps and whose key is in range to `out` (in
+  // the batch's order), and empties the batch.
+  void filter_hits(HitBatch& hits, std::vector<CandidatePair>& out) const;
   // Bucket of a cell: a hash of its row (x, y) plus its z cell, so the cells of a row along z fall in
   // consecutive buckets (and, sorted by bucket, in consecutive slots): the three z neighbours of a
   // cell are one contiguous range, usually on one cache line of the bucket table.
@@ -163,12 +171,13 @@ class BroadPhaseGrid {
   }
   // Pairs of slot k with the slots of buckets [first_bucket, first_bucket + count) (mod the table;
   // in the first bucket only from slot `from` on), whose cell keys are in [key_lo, key_lo + span].
-  void pair_with_buckets(std::size_t k, ChordLine& chord, std::size_t first_bucket, std::size_t count,
-                         std::size_t from, std::uint64_t key_lo, std::uint64_t span,
+  void pair_with_buckets(std::size_t k, std::size_t first_bucket, std::size_t count, std::size_t from,
+                         std::uint64_t key_lo, std::uint64_t span, HitBatch& hits,
                          std::vector<CandidatePair>& out) const;
-  // Pairs of slot k with the slots [first, last) whose cell keys are in [key_lo, key_lo + span].
-  void pair_with_slots(std::size_t k, ChordLine& chord, std::size_t first, std::size_t last,
-                       std::uint64_t key_lo, std::uint64_t span, std::vector<CandidatePair>& out) const;
+  // Pairs of slot k with the slots [first, last) whose cell keys are in [key_lo, key_lo + span]: the
+  // box hits go to `hits`, which is filtered into `out` whenever it fills.
+  void pair_with_slots(std::size_t k, std::size_t first, std::size_t last, std::uint64_t key_lo,
+                       std::uint64_t span, HitBatch& hits, std::vector<CandidatePair>& out) const;
   // Whether any of the buckets [first_bucket, first_bucket + count) (mod the table) holds a slot.
   bool any_occupied(std::size_t first_bucket, std::size_t count) const {
     for (std::size_t d = 0; d < count; ++d) {
@@ -214,10 +223,9 @@ class BroadPhaseGrid {
   // Per slot (bucket order): the boxes axis by axis (lower x, y, z, upper x, y, z), each padded by
   // kLanes entries so the walk's last group of lanes reads inside the array; keys; crossing bits;
   // population indices.
-  static constexpr std::size_t kLanes = 16;
   std::vector<float> slot_box_[6];
   std::vector<std::uint64_t> slot_key_;
-  std::vector<std::uint8_t> slot_crosses_;  // GridBox::crosses
+  std::vector<std::uint32_t> slot_crosses_;  // GridBox::crosses (32 bits: the filter gathers them)
   std::vector<std::uint32_t> slot_index_;
   std::vector<float> slot_reach_;
   std::vector<HermiteHull> hull_;  // per object, with Hermite motion

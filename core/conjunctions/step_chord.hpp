@@ -40,9 +40,14 @@ inline float chord_reach_m(double share_m, double e1_squared, double e2_squared,
 // False only when objects a and b, whose motions (grown by their threshold shares) are within reach_a
 // and reach_b of the lines a0 -> a1 and b0 -> b1 at the same fraction of the step, cannot come within
 // their threshold of each other.
+// The test's allowances for its own rounding (see chords_may_come_within): an absolute margin on the
+// reach [m], a relative one on its square, and one relative to |c0|^2 for the cancellation.
+inline constexpr double kChordMargin_m = 1e-3;
+inline constexpr double kChordRelativeSlack = 1e-9;
+inline constexpr double kChordCancellationSlack = 1e-14;
+
 inline bool chords_may_come_within(const double a0[3], const double a1[3], double reach_a, const double b0[3],
                                    const double b1[3], double reach_b) {
-  constexpr double kMargin_m = 1e-3;
   double c0[3], u[3], uu = 0.0, c0u = 0.0, c0c0 = 0.0;
   for (int k = 0; k < 3; ++k) {
     c0[k] = a0[k] - b0[k];
@@ -58,8 +63,9 @@ inline bool chords_may_come_within(const double a0[3], const double a1[3], doubl
   // passes near the origin: its rounding, a few 2^-53 uu |c0|^2, is covered by 1e-14 uu |c0|^2 on the
   // right (4e-4 m^2 for |c0| = 200 km), whatever the reaches.
   const double t = std::min(std::max(-c0u, 0.0), uu);
-  const double reach = reach_a + reach_b + kMargin_m;
-  return uu * c0c0 + t * (2.0 * c0u + t) <= (reach * reach * (1.0 + 1e-9) + 1e-14 * c0c0) * uu;
+  const double reach = reach_a + reach_b + kChordMargin_m;
+  return uu * c0c0 + t * (2.0 * c0u + t) <=
+         (reach * reach * (1.0 + kChordRelativeSlack) + kChordCancellationSlack * c0c0) * uu;
 }
 
 }  // namespace kessler
