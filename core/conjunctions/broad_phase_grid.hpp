@@ -54,7 +54,9 @@
 // Each pair whose boxes overlap must also pass the chord filter (step_chord.hpp) to become a candidate:
 // in dense populations most such pairs cross the common region at different times, and the filter, on
 // the float corners the walk holds plus a reach per slot, drops them (at 320,000 objects, 2.4 box pairs
-// per object and step, 0.1 % kept).
+// per object and step, 0.1 % kept). The walk hands its hits to a batch on which the filter runs 8 at a
+// time; where hits are dense it stores every group of lanes without a branch, where they are sparse
+// only the groups that hit (the rate so far decides: the same hits either way).
 //
 // With Hermite motion the build can also write each object's hull (hermite_hull.hpp): the single-
 // precision Bezier control points on which the narrow phase's cheap filters run first, reading one
@@ -132,8 +134,10 @@ class BroadPhaseGrid {
  private:
   // The walk's box hits waiting for the chord filter and the cell-key check: slot k (self) with slot
   // m (other), whose cell key must lie in [key_lo, key_lo + span]. The walk appends whole groups of
-  // lanes without branching on each hit, and filter_hits then runs the filter on many hits at once,
-  // in vector lanes (one hit's filter alone is a long chain of dependent scalar operations).
+  // lanes without branching on each hit (where hits are dense, every group, hit or not; where they
+  // are sparse, only groups that hit: pair_with_slots), and filter_hits then runs the filter on many
+  // hits at once, in vector lanes (one hit's filter alone is a long chain of dependent scalar
+  // operations). How the batch is filled never changes what it holds, nor its order.
   static constexpr std::size_t kLanes = 16;  // box tests at once in the walk
   struct HitBatch {
     static constexpr std::size_t kCapacity = 256;
@@ -144,8 +148,8 @@ class BroadPhaseGrid {
     alignas(64) std::uint32_t span[kCapacity + kLanes];
     alignas(64) std::uint64_t key_lo[kCapacity + kLanes];
     bool nearly_full() const { return count > kCapacity - kLanes; }
-    // The walk's hit rate so far (halved now and then, so it follows the region): groups of lanes
-    // tested, and the hits they gave.
+    // The walk's hit rate so far in this call of collect_pairs (halved now and then, so it follows
+    // the region): groups of lanes tested, and the hits they gave.
     std::size_t groups_tested = 0, hits_found = 0;
     void record(std::size_t groups, std::size_t hits) {
       groups_tested += groups;
