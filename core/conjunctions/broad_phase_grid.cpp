@@ -164,7 +164,7 @@ void grow_boxes(const StateArrays& s0, const StateArrays& s1, const ThresholdSha
 void BroadPhaseGrid::prepare(std::size_t n, int threads) {
   box_.resize(n);
   slot_index_.resize(n);
-  slot_reach_.resize(n);
+  slot_chord_.resize(n);
   for (auto& axis : box_lo_) axis.resize(n);
   for (auto& axis : box_hi_) axis.resize(n);
   box_reach_.resize(n);
@@ -245,7 +245,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
         box.lo[k] = box_lo_[k][i];
         box.hi[k] = box_hi_[k][i];
       }
-      box.reach_m = box_reach_[i];
+      box.chord = chord_word(box_reach_[i], box_flags_[i] & kChordEndsMask);
       const std::uint64_t cx = axis_cell(box.lo[0], inverse_cell), cy = axis_cell(box.lo[1], inverse_cell),
                           cz = axis_cell(box.lo[2], inverse_cell);
       box.key = (cx << (2 * kAxisBits)) | (cy << kAxisBits) | cz;
@@ -254,8 +254,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       // every lower corner of a later cell on that axis.
       box.crosses = (axis_cell(box.hi[0], inverse_cell) != cx ? 1u : 0u) |
                     (axis_cell(box.hi[1], inverse_cell) != cy ? 2u : 0u) |
-                    (axis_cell(box.hi[2], inverse_cell) != cz ? 4u : 0u) |
-                    (box_flags_[i] & kChordEndsMask) << kChordEndsShift;
+                    (axis_cell(box.hi[2], inverse_cell) != cz ? 4u : 0u);
       if (!oversized_flag_[i]) ++counts[bucket_of(box.key) >> fine_bits_];
     }
   };
@@ -398,9 +397,9 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
         slot_box_[3 + axis][k] = box.hi[axis];
       }
       slot_key_[k] = box.key;
-      slot_crosses_[k] = box.crosses;
+      slot_crosses_[k] = static_cast<std::uint8_t>(box.crosses);
       slot_index_[k] = box.index;
-      slot_reach_[k] = box.reach_m;
+      slot_chord_[k] = box.chord;
     });
     for (std::size_t f = fine_buckets; f-- > 1;) starts[f] = starts[f - 1];
     starts[0] = partition_start_[p];
@@ -434,8 +433,7 @@ void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
 void BroadPhaseGrid::filter_hits(HitBatch& hits, std::vector<CandidatePair>& out) const {
   const float *lo0 = slot_box_[0].data(), *lo1 = slot_box_[1].data(), *lo2 = slot_box_[2].data();
   const float *hi0 = slot_box_[3].data(), *hi1 = slot_box_[4].data(), *hi2 = slot_box_[5].data();
-  const std::uint32_t* crosses = slot_crosses_.data();
-  const float* reach = slot_reach_.data();
+  const std::uint32_t* chord = slot_chord_.data();
   const std::uint64_t* key = slot_key_.data();
   const std::size_t count = hits.count;
   // Each hit is kept when slot m is in the cell asked for (buckets hold other cells too: without this
@@ -453,9 +451,11 @@ void BroadPhaseGrid::filter_hits(HitBatch& hits, std::vector<CandidatePair>& out
     auto gather = [&](const float* array, __m256i slots) {
       return _mm512_cvtps_pd(_mm256_mmask_i32gather_ps(_mm256_setzero_ps(), valid, slots, array, 4));
     };
-    auto line = [&](__m256i slots, __m512d start[3], __m512d end[3]) {
-      const __m256i ends = _mm256_srli_epi32(
-          _mm256_mmask_i32gather_epi32(_mm256_setzero_si256(), valid, slots, crosses, 4), kChordEndsShift);
+    // A slot's line and its reach, from its box and its chord word.
+    auto line = [&](__m256i slots, __m512d start[3], __m512d end[3], __m512d& reach) {
+      const __m256i word = _mm256_mmask_i32gather_epi32(_mm256_setzero_si256(), valid, slots, chord, 4);
+      reach = _mm512_cvtps_pd(_mm256_castsi256_ps(word));
+      const __m256i ends = word;
       const float* const lo[3] = {lo0, lo1, lo2};
       const float* const hi[3] = {hi0, hi1, hi2};
       for (int axis = 0; axis < 3; ++axis) {
@@ -466,9 +466,9 @@ void BroadPhaseGrid::filter_hits(HitBatch& hits, std::vector<CandidatePair>& out
         end[axis] = _mm512_add_pd(l, _mm512_mul_pd(rising, _mm512_sub_pd(u, l)));
       }
     };
-    __m512d a0[3], a1[3], b0[3], b1[3];
-    line(self, a0, a1);
-    line(other, b0, b1);
+    __m512d a0[3], a1[3], b0[3], b1[3], reach_a, reach_b;
+    line(self, a0, a1, reach_a);
+    line(other, b0, b1, reach_b);
     // chords_may_come_within, lane by lane.
     __m512d c0[3], u[3], uu = zero, c0u = zero, c0c0 = zero;
     for (int axis = 0; axis < 3; ++axis) {
@@ -479,8 +479,7 @@ void BroadPhaseGrid::filter_hits(HitBatch& hits, std::vector<CandidatePair>& out
       c0c0 = _mm512_add_pd(c0c0, _mm512_mul_pd(c0[axis], c0[axis]));
     }
     const __m512d t = _mm512_min_pd(_mm512_max_pd(_mm512_sub_pd(zero, c0u), zero), uu);
-    const __m512d reach_sum = _mm512_add_pd(_mm512_add_pd(gather(reach, self), gather(reach, other)),
-                                            _mm512_set1_pd(kChordMargin_m));
+    const __m512d reach_sum = _mm512_add_pd(_mm512_add_pd(reach_a, reach_b), _mm512_set1_pd(kChordMargin_m));
     const __m512d left =
         _mm512_add_pd(_mm512_mul_pd(uu, c0c0), _mm512_mul_pd(t, _mm512_add_pd(_mm512_add_pd(c0u, c0u), t)));
     const __m512d right = _mm512_mul_pd(
@@ -488,21 +487,20 @@ void BroadPhaseGrid::filter_hits(HitBatch& hits, std::vector<CandidatePair>& out
             _mm512_mul_pd(_mm512_mul_pd(reach_sum, reach_sum), _mm512_set1_pd(1.0 + kChordRelativeSlack)),
             _mm512_mul_pd(_mm512_set1_pd(kChordCancellationSlack), c0c0)),
         uu);
-    const __m512i keys = _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), valid, other, key, 8);
-    const __m512i key_lo = _mm512_loadu_si512(hits.key_lo + h);
-    const __m512i span =
-        _mm512_cvtepu32_epi64(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(hits.span + h)));
-    const __mmask8 in_cell = _mm512_mask_cmple_epu64_mask(valid, _mm512_sub_epi64(keys, key_lo), span);
-    unsigned keep = _mm512_mask_cmp_pd_mask(in_cell, left, right, _CMP_LE_OQ);
+    // The cell-key check only for the pairs the filter keeps (about 1 in 1,000 at 320k objects): the
+    // keys are the one array of the other slot that the walk has not just read, so checking every hit
+    // would cost a cache miss each.
+    unsigned keep = _mm512_mask_cmp_pd_mask(valid, left, right, _CMP_LE_OQ);
     while (keep != 0) {
       const std::size_t hit = h + static_cast<std::size_t>(std::countr_zero(keep));
       keep &= keep - 1;
-      out.push_back(CandidatePair{slot_index_[hits.self[hit]], slot_index_[hits.other[hit]]});
+      if (key[hits.other[hit]] - hits.key_lo[hit] <= hits.span[hit])
+        out.push_back(CandidatePair{slot_index_[hits.self[hit]], slot_index_[hits.other[hit]]});
     }
   }
 #else
   auto line = [&](std::uint32_t k, double start[3], double end[3]) {
-    const std::uint32_t ends = crosses[k] >> kChordEndsShift;
+    const std::uint32_t ends = chord[k];
     const float* const lo[3] = {lo0, lo1, lo2};
     const float* const hi[3] = {hi0, hi1, hi2};
     for (int axis = 0; axis < 3; ++axis) {
@@ -514,11 +512,11 @@ void BroadPhaseGrid::filter_hits(HitBatch& hits, std::vector<CandidatePair>& out
   };
   for (std::size_t h = 0; h < count; ++h) {
     const std::uint32_t k = hits.self[h], m = hits.other[h];
-    if (key[m] - hits.key_lo[h] > hits.span[h]) continue;
     double a0[3], a1[3], b0[3], b1[3];
     line(k, a0, a1);
     line(m, b0, b1);
-    if (chords_may_come_within(a0, a1, reach[k], b0, b1, reach[m]))
+    if (chords_may_come_within(a0, a1, chord_word_reach_m(chord[k]), b0, b1, chord_word_reach_m(chord[m])) &&
+        key[m] - hits.key_lo[h] <= hits.span[h])
       out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
   }
 #endif

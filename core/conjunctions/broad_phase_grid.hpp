@@ -63,6 +63,7 @@
 // cache line per object instead of twelve state arrays, where candidates are still many per object.
 #pragma once
 
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -191,23 +192,28 @@ class BroadPhaseGrid {
     return false;
   }
 
-  static constexpr int kChordEndsShift = 3;
+  // A slot's word for the chord filter (step_chord.hpp): its reach [m] as a float rounded up to a
+  // multiple of 8 in the last place, whose 3 freed bits hold the chord's direction bits (bit set: the
+  // box's lower corner stands for the chord's start on that axis, and the upper one for its end). One
+  // array, so a hit costs one line beyond the boxes the walk has just read.
+  static std::uint32_t chord_word(float reach_m, std::uint32_t ends) {
+    return ((std::bit_cast<std::uint32_t>(reach_m) + 7u) & ~7u) | ends;  // >= reach_m (>= 0, finite)
+  }
+  static float chord_word_reach_m(std::uint32_t word) { return std::bit_cast<float>(word); }
   static constexpr int kRowShift = 21;
   static constexpr std::uint64_t kZMask = (std::uint64_t{1} << kRowShift) - 1;
 
-  // One object's grown box (rounded outwards to floats), cell key, population index and chord reach: 48
+  // One object's grown box (rounded outwards to floats), cell key, population index and chord word: 48
   // bytes, and the whole record the sort moves, so sorting never reads another thread's boxes at random.
   struct GridBox {
     float lo[3], hi[3];
     // Bits 0-2: which axes the box crosses into the next cell on (x, y, z). A box that stays in its
     // cell along an axis cannot overlap a box whose lower corner lies in a later cell on that axis, so
     // the walk skips those forward neighbours (exact: the same candidates, fewer cells visited).
-    // Bits 3-5 (kChordEndsShift): for the chord filter (step_chord.hpp), which box corner stands for
-    // the chord's start on each axis (bit set: the lower one, and the upper one for its end).
     std::uint32_t crosses;
     std::uint32_t index;
     std::uint64_t key;
-    float reach_m;  // the chord filter's reach
+    std::uint32_t chord;  // chord_word
   };
 
   double cell_size_m_ = 0.0;
@@ -229,10 +235,10 @@ class BroadPhaseGrid {
   // population indices.
   std::vector<float> slot_box_[6];
   std::vector<std::uint64_t> slot_key_;
-  std::vector<std::uint32_t> slot_crosses_;  // GridBox::crosses (32 bits: the filter gathers them)
+  std::vector<std::uint8_t> slot_crosses_;  // GridBox::crosses
   std::vector<std::uint32_t> slot_index_;
-  std::vector<float> slot_reach_;
-  std::vector<HermiteHull> hull_;  // per object, with Hermite motion
+  std::vector<std::uint32_t> slot_chord_;  // GridBox::chord
+  std::vector<HermiteHull> hull_;          // per object, with Hermite motion
   std::vector<char> oversized_flag_;
   std::vector<std::uint32_t> oversized_;     // population indices, ascending
   std::vector<std::uint32_t> bucket_start_;  // size buckets + 1
