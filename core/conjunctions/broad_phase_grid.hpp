@@ -53,10 +53,11 @@
 //
 // Each pair whose boxes overlap must also pass the chord filter (step_chord.hpp) to become a candidate:
 // in dense populations most such pairs cross the common region at different times, and the filter, on
-// the float corners the walk holds plus a reach per slot, drops them (at 320,000 objects, 2.4 box pairs
-// per object and step, 0.1 % kept). The walk hands its hits to a batch on which the filter runs 8 at a
-// time; where hits are dense it stores every group of lanes without a branch, where they are sparse
-// only the groups that hit (the rate so far decides: the same hits either way).
+// the float corners the walk holds plus one word per slot (reach and direction bits), drops them (at
+// 320,000 objects, 2.4 box pairs per object and step, 0.1 % kept). The walk hands its hits to a batch
+// on which the filter runs 8 at a time; where hits are dense it stores every group of lanes without a
+// branch, where they are sparse only the groups that hit (the rate so far decides: the same hits
+// either way).
 //
 // With Hermite motion the build can also write each object's hull (hermite_hull.hpp): the single-
 // precision Bezier control points on which the narrow phase's cheap filters run first, reading one
