@@ -455,13 +455,12 @@ void BroadPhaseGrid::filter_hits(HitBatch& hits, std::vector<CandidatePair>& out
     auto line = [&](__m256i slots, __m512d start[3], __m512d end[3], __m512d& reach) {
       const __m256i word = _mm256_mmask_i32gather_epi32(_mm256_setzero_si256(), valid, slots, chord, 4);
       reach = _mm512_cvtps_pd(_mm256_castsi256_ps(word));
-      const __m256i ends = word;
       const float* const lo[3] = {lo0, lo1, lo2};
       const float* const hi[3] = {hi0, hi1, hi2};
       for (int axis = 0; axis < 3; ++axis) {
         const __m512d l = gather(lo[axis], slots), u = gather(hi[axis], slots);
         const __m512d rising =
-            _mm512_cvtepi32_pd(_mm256_and_si256(_mm256_srli_epi32(ends, axis), _mm256_set1_epi32(1)));
+            _mm512_cvtepi32_pd(_mm256_and_si256(_mm256_srli_epi32(word, axis), _mm256_set1_epi32(1)));
         start[axis] = _mm512_add_pd(u, _mm512_mul_pd(rising, _mm512_sub_pd(l, u)));
         end[axis] = _mm512_add_pd(l, _mm512_mul_pd(rising, _mm512_sub_pd(u, l)));
       }

@@ -208,7 +208,7 @@ class BroadPhaseGrid {
   // bytes, and the whole record the sort moves, so sorting never reads another thread's boxes at random.
   struct GridBox {
     float lo[3], hi[3];
-    // Bits 0-2: which axes the box crosses into the next cell on (x, y, z). A box that stays in its
+    // Which axes the box crosses into the next cell on (bit 0: x, 1: y, 2: z). A box that stays in its
     // cell along an axis cannot overlap a box whose lower corner lies in a later cell on that axis, so
     // the walk skips those forward neighbours (exact: the same candidates, fewer cells visited).
     std::uint32_t crosses;
