@@ -9,7 +9,7 @@
 // sub-step. The loop is OpenMP-parallel and SIMD-vectorised over objects; each object's arithmetic
 // depends on that object alone and uses only IEEE-exact operations (no FMA contraction, no libm), so
 // the result is bitwise identical for any thread count and any vector/scalar split. Objects that start a
-// step below 300 km take four sub-steps instead (kLowAltitude_m below), on copies merged after the pass.
+// step below 300 km take four sub-steps instead (kLowAltitude_m below), on copies, right after their block.
 //
 // Drag depends on velocity. Each kick of length h (= d_i dt) is therefore itself a symmetric splitting
 // at its fixed position (force_model.hpp, kick): drag's exact flow over h/2, the velocity-independent
@@ -26,11 +26,13 @@
 // validate_for_propagation() does it and throws naming the object and the field.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
 #include "core/integration/composition.hpp"
 #include "core/integration/propagator.hpp"
+#include "core/integration/thread_chunks.hpp"
 #include "core/physics/force_model.hpp"
 
 namespace kessler {
@@ -82,13 +84,19 @@ class SymplecticPropagator final : public Propagator {
   int threads_ = 0;
   std::vector<std::uint32_t> low_;  // objects sub-stepped in this step
   std::vector<char> low_flag_;      // per object: starts this step low
-  // Per thread, on its own cache line: its low objects and their states and area-to-mass ratios (8
-  // arrays of index.size()).
+  // Per thread, on its own cache line: the low objects of the blocks it took (in the order taken), with
+  // copies of their states and area-to-mass ratios (x, y, z, vx, vy, vz, drag, SRP).
   struct alignas(64) ThreadLow {
     std::vector<std::uint32_t> index;
-    std::vector<double> state;
+    std::array<std::vector<double>, 8> state;
+    void clear();
+    // Flags objects [begin, end) that start the step below low_radius2 (squared radius) and copies them.
+    void copy_low(const Population& population, char* flag, std::size_t begin, std::size_t end,
+                  double low_radius2);
+    StepArrays arrays();
   };
   std::vector<ThreadLow> low_by_thread_;
+  ChunkBlocks blocks_;  // the step's objects handed out in blocks (thread_chunks.hpp)
 };
 
 // Throws std::invalid_argument with Population::validate's message ("object <id>: <field> <reason>")

@@ -4,8 +4,10 @@
 // times more to read, and writing a line another core has read costs more still.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstring>
+#include <memory>
 
 namespace kessler {
 
@@ -16,9 +18,82 @@ struct ThreadChunk {
   std::size_t begin, end;  // population indices [begin, end)
 };
 
+// Chunks start at multiples of kChunkAlign objects: the loops over a chunk are vectorised 8 doubles wide,
+// and a chunk (or block) that starts or ends between two vectors runs its first or last few objects in
+// scalar code, several times dearer per object (a 7-kick step, ~5 us per block).
+inline constexpr std::size_t kChunkAlign = 8;
+
 inline ThreadChunk thread_chunk(std::size_t n, std::size_t thread, std::size_t team) {
-  return {n * thread / team, n * (thread + 1) / team};
+  auto boundary = [&](std::size_t k) { return k == team ? n : n * k / team / kChunkAlign * kChunkAlign; };
+  return {boundary(thread), boundary(thread + 1)};
 }
+
+// The blocks of a team's chunks, handed out with stealing: each thread takes the blocks of its own chunk
+// first, in order, then what is left of the other chunks (from the next thread's on). A core that runs
+// slow for a while, or a chunk that holds costly objects, no longer holds up the team at the next
+// barrier, and most objects are still handled on the core that holds their lines. Which thread takes a
+// block changes no result where each object's arithmetic depends on that object alone.
+class ChunkBlocks {
+ public:
+  // Before the region (one thread): chunks of n objects for `team` threads, in blocks of `block`
+  // (rounded up to a multiple of kChunkAlign, so that blocks start on a vector boundary too).
+  void reset(std::size_t n, std::size_t team, std::size_t block) {
+    block = (block + kChunkAlign - 1) / kChunkAlign * kChunkAlign;
+    if (team > capacity_) {
+      cursors_ = std::make_unique<Cursor[]>(team);
+      capacity_ = team;
+    }
+    team_ = team;
+    block_ = block;
+    for (std::size_t t = 0; t < team; ++t) {
+      const ThreadChunk chunk = thread_chunk(n, t, team);
+      cursors_[t].next.store(chunk.begin, std::memory_order_relaxed);
+      cursors_[t].end = chunk.end;
+    }
+  }
+  // Inside the region: thread t's blocks, one at a time. Every block is taken once, also when OpenMP
+  // gives the region fewer threads than `team`.
+  class Claimer {
+   public:
+    Claimer(ChunkBlocks& blocks, std::size_t thread) : blocks_(&blocks), thread_(thread) {}
+    // The next block [begin, end) for this thread; false when every block is taken.
+    bool next(std::size_t& begin, std::size_t& end) {
+      const std::size_t team = blocks_->team_;
+      for (; visited_ < team; ++visited_) {
+        Cursor& chunk = blocks_->cursors_[(thread_ + visited_) % team];
+        // Read before claiming: a chunk already done costs no write to its line.
+        if (chunk.next.load(std::memory_order_relaxed) >= chunk.end) continue;
+        const std::size_t claimed = chunk.next.fetch_add(blocks_->block_, std::memory_order_relaxed);
+        if (claimed >= chunk.end) continue;
+        begin = claimed;
+        end = claimed + blocks_->block_ < chunk.end ? claimed + blocks_->block_ : chunk.end;
+        return true;
+      }
+      return false;
+    }
+
+   private:
+    ChunkBlocks* blocks_;
+    std::size_t thread_, visited_ = 0;  // chunks looked at so far, from the thread's own on
+  };
+  Claimer claimer(std::size_t thread) { return Claimer(*this, thread); }
+
+  // Calls f(begin, end) for each block thread t takes.
+  template <class F>
+  void for_each_block(std::size_t t, F&& f) {
+    Claimer claims = claimer(t);
+    std::size_t begin = 0, end = 0;
+    while (claims.next(begin, end)) f(begin, end);
+  }
+
+ private:
+  struct alignas(64) Cursor {  // each on its own line: its owner claims from it without sharing
+    std::atomic<std::size_t> next{0};
+    std::size_t end = 0;
+  };
+  std::unique_ptr<Cursor[]> cursors_;
+  std::size_t capacity_ = 0, team_ = 0, block_ = 1;
+};
 
 // Calls f(i) for each i in [begin, end) whose flag is 1, in order. Flags set are rare (burn-ups, low
 // objects), so it jumps from one to the next with memchr.

@@ -26,6 +26,7 @@
 
 #include "core/conjunctions/detector.hpp"
 #include "core/integration/symplectic_propagator.hpp"
+#include "core/integration/team_timeline.hpp"
 #include "core/population/bundled_datasets.hpp"
 #include "core/population/ingest.hpp"
 #include "core/population/leo19647.hpp"
@@ -133,7 +134,8 @@ Population first_n(Population all, std::size_t n) {
 int run(int argc, char** argv) {
   Args args(argc, argv);
   args.allow_only({"--dataset", "--objects", "--days", "--threads", "--kappa", "--screen-km", "--dt",
-                   "--events-out", "--seed", "--no-detection", "--narrow", "--integrator"});
+                   "--events-out", "--seed", "--no-detection", "--narrow", "--integrator", "--phase-times",
+                   "--no-cpu-times"});
   const std::string dataset = args.get("--dataset", "leo-19647");
   const double days = args.get_double("--days", 1.0);
   const int threads = static_cast<int>(args.get_int("--threads", 1));
@@ -245,14 +247,26 @@ int run(int argc, char** argv) {
   CountingSink sink(events_out);
   double wall = 0.0, cpu = 0.0, integrator_cpu = 0.0, detection_cpu = 0.0;
   SimulationParts parts = default_parts(config, std::move(propagator));
-  auto timed_propagator = std::make_unique<CpuTimedPropagator>(std::move(parts.propagator));
-  CpuTimedPropagator& propagator_cpu = *timed_propagator;
-  parts.propagator = std::move(timed_propagator);
+  // The per-part CPU clocks read the whole process's CPU time (a system call that visits every thread),
+  // four times a step: --no-cpu-times leaves them out where that matters (many threads, short steps).
+  const bool cpu_times = !args.has("--no-cpu-times");
+  CpuTimedPropagator* propagator_cpu = nullptr;
+  if (cpu_times) {
+    auto timed_propagator = std::make_unique<CpuTimedPropagator>(std::move(parts.propagator));
+    propagator_cpu = timed_propagator.get();
+    parts.propagator = std::move(timed_propagator);
+  }
   CpuTimedScanner* scanner_cpu = nullptr;
-  if (parts.scanner) {
+  if (cpu_times && parts.scanner) {
     auto timed_scanner = std::make_unique<CpuTimedScanner>(std::move(parts.scanner));
     scanner_cpu = timed_scanner.get();
     parts.scanner = std::move(timed_scanner);
+  }
+  // Where each thread of the step's two parallel regions spends its time (team_timeline.hpp).
+  const bool phase_times = args.has("--phase-times");
+  for (TeamTimeline* timeline : {&propagator_timeline(), &detector_timeline()}) {
+    timeline->reset();
+    timeline->enable(phase_times);
   }
   try {
     Simulation simulation(config, std::move(population), std::move(parts));
@@ -262,7 +276,7 @@ int run(int argc, char** argv) {
     wall = now_s() - wall_start;
     cpu = process_cpu_s() - cpu_start;
     // Read while the simulation (which owns the parts) lives.
-    integrator_cpu = propagator_cpu.cpu_s;
+    integrator_cpu = propagator_cpu ? propagator_cpu->cpu_s : 0.0;
     detection_cpu = scanner_cpu ? scanner_cpu->cpu_s : 0.0;
   } catch (const std::exception& e) {
     std::cerr << "kessler-bench run: " << e.what() << "\n";
@@ -323,6 +337,18 @@ int run(int argc, char** argv) {
       .add("bytes_per_object", static_cast<double>(peak - rss_before) / static_cast<double>(objects))
       .add("load_average", loadavg[0])
       .add("events_digest", summary.events_digest);
+  if (phase_times) {
+    // Per segment: the mean over the threads and the largest, seconds summed over the run.
+    for (auto [prefix, timeline] :
+         {std::pair{"prop", &propagator_timeline()}, std::pair{"det", &detector_timeline()}}) {
+      for (std::size_t s = 0; s < timeline->segments().size(); ++s) {
+        const auto [mean, most] = timeline->mean_and_max(static_cast<int>(s));
+        const std::string key = std::string("t_") + prefix + "_" + timeline->segments()[s];
+        line.add(key + "_mean_s", mean).add(key + "_max_s", most);
+      }
+      timeline->enable(false);
+    }
+  }
   if (threads >= 2) add_cross_core(line);  // where the host put the cores: 2-thread figures follow it
   line.print();
   return 0;
@@ -333,7 +359,8 @@ int run(int argc, char** argv) {
 KESSLER_BENCH("run",
               "the whole simulation: --dataset leo-19647|paper|synthetic [--objects N] --days D --threads T "
               "[--kappa K | --screen-km S] [--dt SECONDS] [--events-out FILE] [--no-detection] "
-              "[--narrow hermite|linear] [--seed S] [--integrator yoshida4|blanes_moan4]",
+              "[--narrow hermite|linear] [--seed S] [--integrator yoshida4|blanes_moan4] [--phase-times] "
+              "[--no-cpu-times]",
               run);
 
 }  // namespace kessler::bench

@@ -282,9 +282,10 @@ TEST(Yoshida, LowObjectsTakeSubstepsWhateverTheirCompany) {
   }
 }
 
-// Low objects cluster in a catalog (one breakup's decaying debris sits together), and their sub-steps
-// are shared out between the threads whatever chunk they belong to: the states must not depend on the
-// team, bit for bit, nor on which thread sub-stepped an object.
+// Low objects cluster in a catalog (one breakup's decaying debris sits together), so the chunk that holds
+// them costs more, and other threads take some of its blocks (thread_chunks.hpp, ChunkBlocks): the states
+// must not depend on the team, bit for bit, nor on which thread propagated or sub-stepped an object, and
+// the list of sub-stepped objects is in population order on any team.
 TEST(Yoshida, SharedOutSubstepsGiveTheSameBitsOnAnyTeam) {
   Population crowd;
   for (int k = 0; k < 3000; ++k) {
@@ -302,8 +303,9 @@ TEST(Yoshida, SharedOutSubstepsGiveTheSameBitsOnAnyTeam) {
     crowd.add(one.record(0));
   }
   std::vector<Population> runs;
+  std::vector<std::vector<std::uint32_t>> substepped;
   std::size_t substeps = 0;
-  for (int threads : {1, 2, 3}) {
+  for (int threads : {1, 2, 3, 7}) {
     Population p = crowd;
     SymplecticPropagator propagator(ForceModelSettings{}, kEpoch);
     propagator.set_threads(threads);
@@ -312,7 +314,9 @@ TEST(Yoshida, SharedOutSubstepsGiveTheSameBitsOnAnyTeam) {
       if (threads == 1) substeps += propagator.last_substepped().size();
     }
     runs.push_back(p);
+    substepped.push_back(propagator.last_substepped());
   }
+  for (std::size_t r = 1; r < substepped.size(); ++r) EXPECT_EQ(substepped[0], substepped[r]);
   EXPECT_GT(substeps, 60u * 100u);  // most of the 400 are low at any step
   for (std::size_t r = 1; r < runs.size(); ++r)
     for (std::size_t i = 0; i < crowd.size(); ++i)

@@ -1,0 +1,117 @@
+// Where each thread of a parallel region spends a run: its work segments and its waits at barriers,
+// summed over the steps. It tells the cost of many threads apart (forks, barriers, an uneven share)
+// from the cost of the work. Off by default (a benchmark turns it on): when on, each segment costs one
+// clock read per thread.
+#pragma once
+
+#include <omp.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace kessler {
+
+class TeamTimeline {
+ public:
+  static constexpr int kMaxSegments = 16;
+
+  // The segments' names, in order; segment 0 is the fork (region start to the thread's first line), the
+  // last one the join (the thread's last mark to the region's end).
+  explicit TeamTimeline(std::vector<std::string> segments) : names_(std::move(segments)) {}
+
+  void enable(bool on) { enabled_.store(on, std::memory_order_relaxed); }
+  bool enabled() const { return enabled_.load(std::memory_order_relaxed); }
+  void reset() {
+    threads_.clear();
+    regions_ = 0;
+  }
+
+  // The master, just before the fork.
+  void region_start(std::size_t team) {
+    if (!enabled()) return;
+    if (threads_.size() < team) threads_.resize(team);
+    team_ = team;
+    start_ = omp_get_wtime();
+    ++regions_;
+  }
+  // Each thread, first thing inside the region.
+  void enter(std::size_t t) {
+    if (!enabled() || t >= threads_.size()) return;
+    PerThread& me = threads_[t];
+    me.last = omp_get_wtime();
+    me.sum[0] += me.last - start_;
+  }
+  // Each thread, at the end of segment `s`.
+  void mark(std::size_t t, int s) {
+    if (!enabled() || t >= threads_.size()) return;
+    PerThread& me = threads_[t];
+    const double now = omp_get_wtime();
+    me.sum[s] += now - me.last;
+    me.last = now;
+  }
+  // The master, just after the join.
+  void region_end() {
+    if (!enabled()) return;
+    const double now = omp_get_wtime();
+    const int join = static_cast<int>(names_.size()) - 1;
+    for (std::size_t t = 0; t < team_; ++t) threads_[t].sum[join] += now - threads_[t].last;
+  }
+
+  const std::vector<std::string>& segments() const { return names_; }
+  std::size_t threads() const { return threads_.size(); }
+  std::size_t regions() const { return regions_; }
+  // Segment s's seconds, summed over the run: the mean and the largest over the threads.
+  std::pair<double, double> mean_and_max(int s) const {
+    double sum = 0.0, most = 0.0;
+    for (const PerThread& p : threads_) {
+      sum += p.sum[s];
+      most = std::max(most, p.sum[s]);
+    }
+    return {threads_.empty() ? 0.0 : sum / static_cast<double>(threads_.size()), most};
+  }
+
+ private:
+  struct alignas(64) PerThread {  // one thread's lines only
+    double last = 0.0;
+    std::array<double, kMaxSegments> sum{};
+  };
+  std::vector<std::string> names_;
+  std::vector<PerThread> threads_;
+  std::size_t team_ = 0, regions_ = 0;
+  double start_ = 0.0;
+  std::atomic<bool> enabled_{false};
+};
+
+// The timelines of the step's two parallel regions (process-wide: for benchmarks, one run at a time).
+enum PropagatorSegment { kPropFork, kPropBlocks, kPropWait, kPropLow, kPropJoin };
+enum DetectorSegment {
+  kDetFork,
+  kDetGrow,
+  kDetEdges,
+  kDetKeys,
+  kDetWaitBoxes,
+  kDetRekey,
+  kDetScatter,
+  kDetWaitScatter,
+  kDetSort,
+  kDetWaitSort,
+  kDetWalk,
+  kDetNarrow,
+  kDetJoin
+};
+inline TeamTimeline& propagator_timeline() {
+  static TeamTimeline timeline({"fork", "blocks", "wait", "low", "join"});
+  return timeline;
+}
+inline TeamTimeline& detector_timeline() {
+  static TeamTimeline timeline({"fork", "grow", "edges", "keys", "wait_boxes", "rekey", "scatter",
+                                "wait_scatter", "sort", "wait_sort", "walk", "narrow", "join"});
+  return timeline;
+}
+
+}  // namespace kessler
