@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -100,6 +101,7 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
   }
   // One region per step: the grid (three barriers inside), then each thread collects its share of
   // candidate pairs into its own compact array and runs the narrow phase on them, with no barrier.
+  std::atomic<std::size_t> next_slot{0};  // the walk's next unclaimed slot
   TeamTimeline& timeline = detector_timeline();
   timeline.region_start(static_cast<std::size_t>(threads));
 #pragma omp parallel num_threads(threads)
@@ -109,17 +111,24 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
     grid_.build_in_team(step, settings_.narrow_phase, share, max_motion_m, use_hulls);
     const std::size_t slots = grid_.slot_count();
     std::vector<CandidatePair>& mine = per_thread_[t].candidates;
-    // Slot blocks handed out as the threads ask: dense regions of the sky cost more. Guided: long runs
-    // of blocks first (few claims on the shared counter, neighbouring cells read by one core), single
-    // blocks of ~10 us at the end, when the last ones decide when the team is done (runs of 1,024 slots
-    // throughout left 16 threads on 19,647 objects waiting ~40 us a step at the join).
-    constexpr std::int64_t kBlock = 128;
-    const std::int64_t blocks = static_cast<std::int64_t>((slots + kBlock - 1) / kBlock);
-#pragma omp for schedule(guided) nowait
-    for (std::int64_t b = 0; b < blocks; ++b) {
-      const std::size_t begin = static_cast<std::size_t>(b * kBlock);
-      grid_.collect_pairs(begin, std::min(slots, begin + static_cast<std::size_t>(kBlock)), mine);
-    }
+    // Runs of slots handed out as the threads ask (dense regions of the sky cost more), guided: each
+    // claim takes half a thread's share of what is left, at least kMinRun slots (~10 us of walk on one
+    // core). Long runs first (few claims, neighbouring cells read by one core, one call and one hit
+    // batch per run), short ones at the end, when the last ones decide when the team is done: runs of
+    // 1,024 slots throughout left 16 threads on 19,647 objects waiting ~40 us a step at the join.
+    constexpr std::size_t kMinRun = 128;
+    const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());
+    auto claim_run = [&](std::size_t& begin, std::size_t& end) {
+      begin = next_slot.load(std::memory_order_relaxed);
+      std::size_t run = 0;
+      do {
+        if (begin >= slots) return false;
+        run = std::max((slots - begin) / (2 * team), kMinRun);
+      } while (!next_slot.compare_exchange_weak(begin, begin + run, std::memory_order_relaxed));
+      end = std::min(slots, begin + run);
+      return true;
+    };
+    for (std::size_t begin = 0, end = 0; claim_run(begin, end);) grid_.collect_pairs(begin, end, mine);
     const std::int64_t oversized = static_cast<std::int64_t>(grid_.oversized_count());
 #pragma omp for schedule(dynamic, 1) nowait
     for (std::int64_t o = 0; o < oversized; ++o)
