@@ -239,16 +239,14 @@ void SymplecticPropagator::advance(Population& population, double t_start_s, dou
       ChunkBlocks::Claimer claimer;
       ThreadLow* mine;
       const Population* population;
-      char* flag;
+      char* flag;  // null: no low objects to copy aside (no drag)
       double low_radius2;
-      bool substep_low;
-    } claim{blocks_.claimer(t), &mine,      &population, substep_low ? low_flag_.data() : nullptr,
-            low_radius2,        substep_low};
+    } claim{blocks_.claimer(t), &mine, &population, substep_low ? low_flag_.data() : nullptr, low_radius2};
     RangeSource source{[](void* context, long& begin, long& end) {
                          Claim& c = *static_cast<Claim*>(context);
                          std::size_t b = 0, e = 0;
                          if (!c.claimer.next(b, e)) return false;
-                         if (c.substep_low) c.mine->copy_low(*c.population, c.flag, b, e, c.low_radius2);
+                         if (c.flag) c.mine->copy_low(*c.population, c.flag, b, e, c.low_radius2);
                          begin = static_cast<long>(b), end = static_cast<long>(e);
                          return true;
                        },

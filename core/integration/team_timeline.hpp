@@ -26,10 +26,7 @@ class TeamTimeline {
 
   void enable(bool on) { enabled_.store(on, std::memory_order_relaxed); }
   bool enabled() const { return enabled_.load(std::memory_order_relaxed); }
-  void reset() {
-    threads_.clear();
-    regions_ = 0;
-  }
+  void reset() { threads_.clear(); }
 
   // The master, just before the fork.
   void region_start(std::size_t team) {
@@ -37,7 +34,6 @@ class TeamTimeline {
     if (threads_.size() < team) threads_.resize(team);
     team_ = team;
     start_ = omp_get_wtime();
-    ++regions_;
   }
   // Each thread, first thing inside the region.
   void enter(std::size_t t) {
@@ -63,8 +59,6 @@ class TeamTimeline {
   }
 
   const std::vector<std::string>& segments() const { return names_; }
-  std::size_t threads() const { return threads_.size(); }
-  std::size_t regions() const { return regions_; }
   // Segment s's seconds, summed over the run: the mean and the largest over the threads.
   std::pair<double, double> mean_and_max(int s) const {
     double sum = 0.0, most = 0.0;
@@ -82,7 +76,7 @@ class TeamTimeline {
   };
   std::vector<std::string> names_;
   std::vector<PerThread> threads_;
-  std::size_t team_ = 0, regions_ = 0;
+  std::size_t team_ = 0;
   double start_ = 0.0;
   std::atomic<bool> enabled_{false};
 };

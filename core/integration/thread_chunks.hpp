@@ -78,14 +78,6 @@ class ChunkBlocks {
   };
   Claimer claimer(std::size_t thread) { return Claimer(*this, thread); }
 
-  // Calls f(begin, end) for each block thread t takes.
-  template <class F>
-  void for_each_block(std::size_t t, F&& f) {
-    Claimer claims = claimer(t);
-    std::size_t begin = 0, end = 0;
-    while (claims.next(begin, end)) f(begin, end);
-  }
-
  private:
   struct alignas(64) Cursor {  // each on its own line: its owner claims from it without sharing
     std::atomic<std::size_t> next{0};

@@ -21,7 +21,8 @@ std::vector<int> times_taken(std::size_t n, std::size_t team, std::size_t block,
 #pragma omp parallel num_threads(running)
   {
     const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
-    blocks.for_each_block(t, [&](std::size_t begin, std::size_t end) {
+    ChunkBlocks::Claimer claims = blocks.claimer(t);
+    for (std::size_t begin = 0, end = 0; claims.next(begin, end);) {
       EXPECT_LT(begin, end);
       // Blocks are rounded up to whole vectors and start on one, so no loop over a block has a scalar
       // head (only the population's last block may end between two vectors).
@@ -36,7 +37,7 @@ std::vector<int> times_taken(std::size_t n, std::size_t team, std::size_t block,
 #pragma omp atomic
         ++taken[i];
       }
-    });
+    }
   }
   if (own_blocks) *own_blocks = own;
   return taken;
