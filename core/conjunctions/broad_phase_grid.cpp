@@ -23,8 +23,10 @@ constexpr int kAxisBits = 21;
 constexpr std::int64_t kAxisOffset = std::int64_t{1} << (kAxisBits - 1);
 constexpr double kAxisLimit = static_cast<double>(kAxisOffset - 2);  // keeps neighbours in range
 constexpr double kRoundingMargin_m = 1e-3;
-// The counting sort's coarse partitions (top bits of the bucket): at most 2^8.
-constexpr int kMaxCoarseBits = 8;
+// The regions' histogram takes every kHistogramStride-th object.
+constexpr std::size_t kHistogramStride = 4;
+// The counting sort's coarse partitions (top bits of the bucket): at most 256.
+constexpr std::size_t kMaxPartitions = 256;
 // The cell edge over the largest box edge: room for the next step's boxes to grow a little, so the
 // guessed cell usually fits and the keys are computed once.
 constexpr double kCellMargin = 0.005;
@@ -160,6 +162,32 @@ void grow_boxes(const StateArrays& s0, const StateArrays& s1, const ThresholdSha
   }
 }
 
+// The borders [m] of `regions` regions along x that hold equal shares of a histogram's objects (`bins`
+// bins of `width` from `origin`), each border placed inside its bin as if the bin's objects were spread
+// evenly across it. An empty histogram spreads the borders evenly over its range.
+void region_borders_m(const std::uint32_t* hist, std::size_t bins, double origin, double width,
+                      std::size_t regions, double* borders_m) {
+  double total = 0.0;
+  for (std::size_t b = 0; b < bins; ++b) total += hist[b];
+  std::size_t border = 1;
+  if (total > 0.0) {
+    double below = 0.0;
+    for (std::size_t b = 0; b < bins && border < regions; ++b) {
+      const double in_bin = hist[b];
+      for (double target = total * static_cast<double>(border) / static_cast<double>(regions);
+           border < regions && below + in_bin >= target;
+           target = total * static_cast<double>(border) / static_cast<double>(regions)) {
+        const double fraction = in_bin > 0.0 ? (target - below) / in_bin : 0.0;
+        borders_m[border++ - 1] = origin + (static_cast<double>(b) + fraction) * width;
+      }
+      below += in_bin;
+    }
+  }
+  for (; border < regions; ++border)
+    borders_m[border - 1] = origin + static_cast<double>(bins) * width * static_cast<double>(border) /
+                                         static_cast<double>(regions);
+}
+
 }  // namespace
 
 void BroadPhaseGrid::prepare(std::size_t n, int threads) {
@@ -176,26 +204,30 @@ void BroadPhaseGrid::prepare(std::size_t n, int threads) {
   slot_crosses_.resize(n);
   oversized_flag_.resize(n);
   scratch_.resize(n);
-  // At least 4 buckets per object (load <= 1/4: few hash collisions; the occupancy bitmap makes empty
-  // buckets cheap); up to 256 coarse partitions for the sort, each of at least 64 buckets.
-  std::size_t buckets = 64;
+  // One region per thread (at most kMaxRegions). At least 4 buckets per object in all (load <= 1/4:
+  // few hash collisions; the occupancy bitmap makes empty buckets cheap), a power of two per region;
+  // up to 256 coarse partitions for the sort, each of at least 64 buckets.
+  const std::size_t team = static_cast<std::size_t>(std::max(threads, 1));
+  regions_ = std::min(team, kMaxRegions);
+  std::size_t region_buckets = 64;
   int bits = 6;
-  while (buckets < 4 * n) {
-    buckets *= 2;
+  while (regions_ * region_buckets < 4 * n) {
+    region_buckets *= 2;
     ++bits;
   }
-  bucket_mask_ = buckets - 1;
-  const std::size_t team = static_cast<std::size_t>(std::max(threads, 1));
+  region_bits_ = bits;
+  region_mask_ = region_buckets - 1;
+  const std::size_t buckets = regions_ * region_buckets;
   // Each thread scatters its chunk into every partition: with fewer than ~32 objects per thread and
   // partition, threads would write the same cache lines (a 16-thread team on 20,000 objects and 256
   // partitions measured no speed-up at all in the scatter). So partitions <= n / (32 threads).
-  int coarse_bits = 0;
-  while (coarse_bits < kMaxCoarseBits && coarse_bits < bits - 6 &&
-         (std::size_t{2} << coarse_bits) * 32 * team <= n)
-    ++coarse_bits;
-  coarse_bits_ = coarse_bits;
-  fine_bits_ = bits - coarse_bits_;
-  const std::size_t partitions = std::size_t{1} << coarse_bits_;
+  int region_partition_bits = 0;
+  while (region_partition_bits < bits - 6 && (regions_ << (region_partition_bits + 1)) <= kMaxPartitions &&
+         (regions_ << (region_partition_bits + 1)) * 32 * team <= n)
+    ++region_partition_bits;
+  partitions_ = regions_ << region_partition_bits;
+  fine_bits_ = bits - region_partition_bits;
+  const std::size_t partitions = partitions_;
   bucket_start_.resize(buckets + 1);
   occupied_.resize(buckets / 64);
   coarse_count_.resize(team * partitions);
@@ -203,6 +235,9 @@ void BroadPhaseGrid::prepare(std::size_t n, int threads) {
   thread_oversized_.resize(team);
   thread_edge_.resize(team);
   partition_start_.resize(partitions);
+  hist_.resize(kHistogramBins);
+  thread_hist_.resize(team * kHistogramBins);
+  thread_x_range_.resize(2 * team);
   prepared_threads_ = team;
 }
 
@@ -228,9 +263,10 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   const std::size_t n = s0.size();
   const double dt = step.dt_s;
   const bool hermite = motion == NarrowPhase::kHermite;
-  const std::size_t partitions = std::size_t{1} << coarse_bits_;
+  const std::size_t partitions = partitions_;
   const std::size_t fine_buckets = std::size_t{1} << fine_bits_;
-  const std::size_t buckets = bucket_mask_ + 1;
+  const std::size_t regions = regions_;
+  const std::size_t buckets = regions << region_bits_;
   const std::size_t threads = static_cast<std::size_t>(omp_get_num_threads());
   const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
   if (threads > prepared_threads_) throw std::logic_error("BroadPhaseGrid: team larger than prepared");
@@ -242,13 +278,27 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   std::uint32_t* counts = &coarse_count_[t * partitions];
   std::vector<std::uint32_t>& my_oversized = thread_oversized_[t];
 
+  // The regions' borders along x [m]: from the last build's histogram (a build that keys again after
+  // the barrier takes them from its own, below: the first one has no other). Every thread computes the
+  // same borders and cell columns itself, so no thread waits for them.
+  RegionMap map;
+  map.region_bits = region_bits_;
+  for (std::size_t power = 1; power < regions; power *= 2) map.search_top = power;
+  std::fill(std::begin(map.first_column), std::end(map.first_column), ~std::uint32_t{0});
+  double borders_m[kMaxRegions - 1];
+  const double bin_origin = bin_origin_m_, bin_width = bin_width_m_;
+  if (regions > 1)
+    region_borders_m(hist_.data(), kHistogramBins, hist_origin_m_, hist_width_m_, regions, borders_m);
+
   // Cell keys, the crossing bits and the coarse counts of this thread's chunk for cell edge `cell`.
   // The counts go to the shared array once, at the end: every thread reads all of them after the
   // barrier, so counting in place would pull the line back from other cores at each object (16 threads
   // on 19,647 objects spent 3x longer here than one thread's share).
   auto key_chunk = [&](double cell) {
     const double inverse_cell = 1.0 / cell;
-    std::uint32_t local_counts[std::size_t{1} << kMaxCoarseBits] = {};
+    for (std::size_t s = 0; s + 1 < regions; ++s)
+      map.first_column[s] = static_cast<std::uint32_t>(axis_cell(borders_m[s], inverse_cell));
+    std::uint32_t local_counts[kMaxPartitions] = {};
     for (std::size_t i = begin; i < end; ++i) {
       GridBox& box = box_[i];
       for (int k = 0; k < 3; ++k) {
@@ -259,13 +309,14 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       const std::uint64_t cx = axis_cell(box.lo[0], inverse_cell), cy = axis_cell(box.lo[1], inverse_cell),
                           cz = axis_cell(box.lo[2], inverse_cell);
       box.key = (cx << (2 * kAxisBits)) | (cy << kAxisBits) | cz;
+      box.bucket = static_cast<std::uint32_t>(bucket_of(box.key, map));
       box.index = static_cast<std::uint32_t>(i);
       // Monotone cells: a box whose upper corner is in its lower corner's cell along an axis lies below
       // every lower corner of a later cell on that axis.
       box.crosses = (axis_cell(box.hi[0], inverse_cell) != cx ? 1u : 0u) |
                     (axis_cell(box.hi[1], inverse_cell) != cy ? 2u : 0u) |
                     (axis_cell(box.hi[2], inverse_cell) != cz ? 4u : 0u);
-      if (!oversized_flag_[i]) ++local_counts[bucket_of(box.key) >> fine_bits_];
+      if (!oversized_flag_[i]) ++local_counts[box.bucket >> fine_bits_];
     }
     std::copy(local_counts, local_counts + partitions, counts);
   };
@@ -302,6 +353,24 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     for (int k = 0; k < 3; ++k)
       largest_edge = std::max(largest_edge, double{box_hi_[k][i]} - double{box_lo_[k][i]});
   }
+  if (regions > 1) {
+    // The histogram of the lower x corners for the regions' borders, and their extent, on every
+    // kHistogramStride-th object (the borders only balance the threads' work: no result depends on them).
+    std::uint32_t local_hist[kHistogramBins] = {};
+    float x_lowest = INFINITY, x_highest = -INFINITY;
+    const double inverse_bin = 1.0 / bin_width;
+    for (std::size_t i = begin; i < end; i += kHistogramStride) {
+      if (oversized_flags[i]) continue;
+      const float x = box_lo_[0][i];
+      const double q = (x - bin_origin) * inverse_bin;
+      ++local_hist[q <= 0.0 ? 0 : q >= kHistogramBins - 1 ? kHistogramBins - 1 : static_cast<std::size_t>(q)];
+      x_lowest = std::min(x_lowest, x);
+      x_highest = std::max(x_highest, x);
+    }
+    std::copy(local_hist, local_hist + kHistogramBins, &thread_hist_[t * kHistogramBins]);
+    thread_x_range_[2 * t] = x_lowest;
+    thread_x_range_[2 * t + 1] = x_highest;
+  }
   if (hermite && with_hulls) {
     // The hulls, in their own loop: their 64-byte stores would keep the box loop from vectorising.
     // Streaming stores: the hulls are read once, by whichever thread meets the pair, so they need not
@@ -331,8 +400,24 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   if (!fits) {
     // The guess is too small (or there is none): key again with a cell of this step's largest edge.
     cell = std::max(largest, 1.0) * (1.0 + kCellMargin);
+    if (regions > 1) {
+      // The borders from this build's histogram, all threads' (rare: only the first build needs it).
+      std::uint32_t hist[kHistogramBins] = {};
+      for (std::size_t u = 0; u < threads; ++u)
+        for (std::size_t b = 0; b < kHistogramBins; ++b) hist[b] += thread_hist_[u * kHistogramBins + b];
+      region_borders_m(hist, kHistogramBins, bin_origin, bin_width, regions, borders_m);
+    }
     key_chunk(cell);
 #pragma omp barrier
+  }
+  if (regions > 1) {
+    // This build's histogram, summed over the threads for the next build's borders: a slice of the bins
+    // each (every thread has read the last one by now).
+    for (std::size_t b = kHistogramBins * t / threads; b < kHistogramBins * (t + 1) / threads; ++b) {
+      std::uint32_t total = 0;
+      for (std::size_t u = 0; u < threads; ++u) total += thread_hist_[u * kHistogramBins + b];
+      hist_[b] = total;
+    }
   }
   timeline.mark(t, kDetRekey);
 
@@ -355,6 +440,23 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     // Next step's guess: this step's cell, unless it has become much larger than needed.
     const double needed = std::max(largest, 1.0) * (1.0 + kCellMargin);
     next_cell_m_ = (fits && cell <= needed * kCellShrinkRatio) ? cell : needed;
+    region_map_ = map;
+    if (regions > 1) {
+      // The histogram's bins as it was made, and the next one's: this build's extent in x, a little
+      // wider.
+      hist_origin_m_ = bin_origin;
+      hist_width_m_ = bin_width;
+      double x_lowest_all = INFINITY, x_highest_all = -INFINITY;
+      for (std::size_t u = 0; u < threads; ++u) {
+        x_lowest_all = std::min(x_lowest_all, thread_x_range_[2 * u]);
+        x_highest_all = std::max(x_highest_all, thread_x_range_[2 * u + 1]);
+      }
+      if (x_lowest_all <= x_highest_all) {
+        const double margin = 0.01 * (x_highest_all - x_lowest_all) + 1.0;
+        bin_origin_m_ = x_lowest_all - margin;
+        bin_width_m_ = (x_highest_all - x_lowest_all + 2.0 * margin) / static_cast<double>(kHistogramBins);
+      }
+    }
   }
   // Coarse scatter of this thread's boxes into its own region of scratch_ (regions in thread order),
   // grouped by partition: whole records, read back in sequence by the partition's sorter.
@@ -363,13 +465,13 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     for (std::size_t u = 0; u < t; ++u)
       for (std::size_t p = 0; p < partitions; ++p) at += coarse_count_[u * partitions + p];
     std::uint32_t* group = &group_start_[t * partitions];
-    std::uint32_t cursor[std::size_t{1} << kMaxCoarseBits];
+    std::uint32_t cursor[kMaxPartitions];
     for (std::size_t p = 0; p < partitions; ++p) {
       group[p] = cursor[p] = at;
       at += counts[p];
     }
     for (std::size_t i = begin; i < end; ++i)
-      if (!oversized_flag_[i]) scratch_[cursor[bucket_of(box_[i].key) >> fine_bits_]++] = box_[i];
+      if (!oversized_flag_[i]) scratch_[cursor[box_[i].bucket >> fine_bits_]++] = box_[i];
   }
   timeline.mark(t, kDetScatter);
 #pragma omp barrier
@@ -398,7 +500,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       }
     };
     each_box([&](const GridBox& box) {
-      const std::size_t b = bucket_of(box.key);
+      const std::size_t b = box.bucket;
       ++starts[b - first_bucket];
       occupied_[b >> 6] |= std::uint64_t{1} << (b & 63);
     });
@@ -410,7 +512,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     }
     // Scatter with the starts as cursors, then shift the starts back.
     each_box([&](const GridBox& box) {
-      const std::uint32_t k = starts[bucket_of(box.key) - first_bucket]++;
+      const std::uint32_t k = starts[box.bucket - first_bucket]++;
       for (int axis = 0; axis < 3; ++axis) {
         slot_box_[axis][k] = box.lo[axis];
         slot_box_[3 + axis][k] = box.hi[axis];
@@ -426,6 +528,12 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   timeline.mark(t, kDetSort);
 #pragma omp barrier
   timeline.mark(t, kDetWaitSort);
+}
+
+std::pair<std::size_t, std::size_t> BroadPhaseGrid::sorted_slots(std::size_t t, std::size_t threads) const {
+  const std::size_t first = partitions_ * t / threads, last = partitions_ * (t + 1) / threads;
+  return {first < partitions_ ? partition_start_[first] : slots_in_grid_,
+          last < partitions_ ? partition_start_[last] : slots_in_grid_};
 }
 
 void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
@@ -641,16 +749,17 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, std::size_t first, std::size
 #endif
 }
 
-void BroadPhaseGrid::pair_with_buckets(std::size_t k, std::size_t first_bucket, std::size_t count,
-                                       std::size_t from, std::uint64_t key_lo, std::uint64_t span,
-                                       HitBatch& hits, std::vector<CandidatePair>& out) const {
-  if (first_bucket + count <= bucket_mask_ + 1) {
+void BroadPhaseGrid::pair_with_buckets(std::size_t k, std::size_t region, std::size_t first,
+                                       std::size_t count, std::size_t from, std::uint64_t key_lo,
+                                       std::uint64_t span, HitBatch& hits,
+                                       std::vector<CandidatePair>& out) const {
+  if (first + count <= region_mask_ + 1) {
     // One contiguous range (`from` lies in the first bucket or before it).
-    pair_with_slots(k, std::max<std::size_t>(bucket_start_[first_bucket], from),
-                    bucket_start_[first_bucket + count], key_lo, span, hits, out);
+    pair_with_slots(k, std::max<std::size_t>(bucket_start_[region + first], from),
+                    bucket_start_[region + first + count], key_lo, span, hits, out);
   } else {
-    for (std::size_t d = 0; d < count; ++d) {  // wraps around the end of the table
-      const std::size_t b = (first_bucket + d) & bucket_mask_;
+    for (std::size_t d = 0; d < count; ++d) {  // wraps around the end of the region
+      const std::size_t b = region | ((first + d) & region_mask_);
       pair_with_slots(k, d == 0 ? std::max<std::size_t>(bucket_start_[b], from) : bucket_start_[b],
                       bucket_start_[b + 1], key_lo, span, hits, out);
     }
@@ -660,26 +769,51 @@ void BroadPhaseGrid::pair_with_buckets(std::size_t k, std::size_t first_bucket, 
 void BroadPhaseGrid::collect_pairs(std::size_t slot_begin, std::size_t slot_end,
                                    std::vector<CandidatePair>& out) const {
   HitBatch hits;
+  if (region_map_.search_top == 0) {
+    collect_pairs_in<false>(slot_begin, slot_end, 0, 0, hits, out);
+  } else {
+    // Region by region (each holds a contiguous run of slots): the slots' region is then known, and
+    // only those in its last column look the next column's region up.
+    for (std::size_t r = 0; r < regions_; ++r) {
+      const std::size_t region = r << region_bits_;
+      const std::size_t first = std::max<std::size_t>(slot_begin, bucket_start_[region]);
+      const std::size_t last = std::min<std::size_t>(slot_end, bucket_start_[region + region_mask_ + 1]);
+      if (first < last) collect_pairs_in<true>(first, last, region, region_map_.first_column[r], hits, out);
+    }
+  }
+  filter_hits(hits, out);
+}
+
+template <bool kRegions>
+void BroadPhaseGrid::collect_pairs_in(std::size_t slot_begin, std::size_t slot_end, std::size_t region,
+                                      std::uint64_t next_region_column, HitBatch& hits,
+                                      std::vector<CandidatePair>& out) const {
   for (std::size_t k = slot_begin; k < slot_end; ++k) {
     const std::uint64_t key = slot_key_[k];
     const std::uint32_t crosses = slot_crosses_[k];
     // z cells of a neighbour row: z - 1 and z, and z + 1 only if the box reaches into the next z cell.
     const std::size_t z_cells = (crosses & 4u) ? 3 : 2;
+    // The region of the next column: another one only from the region's last column.
+    std::size_t next_region = region;
+    if constexpr (kRegions) {
+      const std::uint64_t next_column = column_of(key) + 1;
+      if (next_column >= next_region_column) next_region = region_map_.base(next_column);
+    }
     // Own row: the same cell (slots after k) and the next z cell, in buckets b and b + 1.
-    pair_with_buckets(k, bucket_of(key), z_cells - 1, k + 1, key, 1, hits, out);
+    pair_with_buckets(k, region, bucket_in_region(key), z_cells - 1, k + 1, key, 1, hits, out);
     // The forward rows, z cells -1..+1: buckets b' - 1 .. b' + 1. Rows at y + 1 only if the box
     // reaches into the next y cell, rows at x + 1 only if it reaches into the next x cell.
     for (int r = 0; r < 4; ++r) {
       const std::uint32_t needs = kForwardRowNeeds[r];
       if ((crosses & needs) != needs) continue;
       const std::uint64_t centre = key + kForwardRows[r];
-      const std::size_t b = (bucket_of(centre) - 1) & bucket_mask_;
+      const std::size_t row_region = r == 0 ? region : next_region;  // row 0 is (0, +1)
+      const std::size_t first = (bucket_in_region(centre) - 1) & region_mask_;
       // Many neighbour rows are empty: the occupancy bitmap answers.
-      if (!any_occupied(b, z_cells)) continue;
-      pair_with_buckets(k, b, z_cells, 0, centre - 1, z_cells - 1, hits, out);
+      if (!any_occupied(row_region, first, z_cells)) continue;
+      pair_with_buckets(k, row_region, first, z_cells, 0, centre - 1, z_cells - 1, hits, out);
     }
   }
-  filter_hits(hits, out);
 }
 
 }  // namespace kessler

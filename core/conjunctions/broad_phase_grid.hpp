@@ -26,15 +26,26 @@
 // make every pair a neighbour. They are kept out of the grid and tested against every object instead
 // (O(N) each), so one bad object costs O(N), not O(N^2).
 //
-// Cells are hashed into a table of a power of two >= 4 N buckets: a hash of the cell's (x, y) row plus
-// its z index, so the cells along z are consecutive buckets and the 13 forward neighbours are 5 bucket
-// ranges (own cell and z + 1; z - 1..z + 1 of four neighbouring rows); an occupancy bitmap (1 bit per
-// bucket, in L1) skips empty ones. Objects are ordered by bucket with a parallel, stable counting sort,
-// so memory and time stay O(N) whatever the domain's size and the result never depends on threads.
+// Cells are hashed into a table of >= 4 N buckets: a hash of the cell's (x, y) row plus its z index, so
+// the cells along z are consecutive buckets and the 13 forward neighbours are 5 bucket ranges (own cell
+// and z + 1; z - 1..z + 1 of four neighbouring rows); an occupancy bitmap (1 bit per bucket, in L1)
+// skips empty ones. Objects are ordered by bucket with a parallel, stable counting sort, so memory and
+// time stay O(N) whatever the domain's size and the result never depends on threads.
 // The build runs inside the caller's parallel region with three barriers (boxes and keys; scatter into
 // coarse partitions; sort of each partition by fine bucket) and no serial section: every thread
 // computes the partition layout itself from all threads' counts. Each thread keeps the contiguous
 // chunk of objects whose end states the propagator wrote on the same core (thread_chunks.hpp).
+//
+// Regions of space, one per thread: the x axis is cut into slabs of whole cell columns, and each slab's
+// cells hash into its own power-of-two range of buckets, so into partitions that one thread sorts and
+// then walks first. A cell's neighbour rows lie in its own column or the next, so nearly all of them
+// are in the same region: the walk reads slot lines its own core wrote in the sort, and the next sort
+// rewrites lines only its own core read. (With one hash over all buckets, a neighbour row belonged to
+// any thread: 2 threads on cores that share no cache spent 1.6x their share of the sort and 1.3x of
+// the walk fetching and invalidating each other's lines.) The borders between the slabs hold equal
+// shares of the objects: quantiles of a histogram of the lower x corners of the last build's boxes
+// (every 4th object; a first build, which keys after the barrier anyway, takes its own). Only the
+// balance between threads depends on them: the candidates are the same for any borders.
 // (A linear bucket function, x cx + y cy + z, which puts neighbour rows at fixed offsets, was measured
 // and did not pay: 149.7 vs 145.5 ns per object-step at 320k, equal at 19,647.)
 //
@@ -67,6 +78,7 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "core/conjunctions/encounter.hpp"
@@ -118,6 +130,9 @@ class BroadPhaseGrid {
   // Number of slots (objects in bucket order); pairs are enumerated per slot range so threads can split
   // the work. Appends each candidate pair (boxes overlap) whose first member is in [slot_begin, slot_end).
   std::size_t slot_count() const { return slots_in_grid_; }
+  // The slots that thread t of a team of `threads` sorted (its region's, when the team is the size the
+  // grid was prepared for): walking them first, a thread reads what its own core wrote.
+  std::pair<std::size_t, std::size_t> sorted_slots(std::size_t t, std::size_t threads) const;
   void collect_pairs(std::size_t slot_begin, std::size_t slot_end, std::vector<CandidatePair>& out) const;
   // An object's hull (by population index) as of the last build with_hulls (Hermite motion only).
   const HermiteHull& hull(std::size_t i) const { return hull_[i]; }
@@ -164,30 +179,63 @@ class BroadPhaseGrid {
     // More than one hit per 4 groups: then storing every group costs less than the branches' misses.
     bool dense() const { return 4 * hits_found > groups_tested; }
   };
+  // collect_pairs on slots of the one region starting at bucket `region`, whose next region starts
+  // at cell column next_region_column (kRegions: the grid has more than one region).
+  template <bool kRegions>
+  void collect_pairs_in(std::size_t slot_begin, std::size_t slot_end, std::size_t region,
+                        std::uint64_t next_region_column, HitBatch& hits,
+                        std::vector<CandidatePair>& out) const;
   // Appends each hit of the batch that the chord filter keeps and whose key is in range to `out` (in
   // the batch's order), and empties the batch.
   void filter_hits(HitBatch& hits, std::vector<CandidatePair>& out) const;
-  // Bucket of a cell: a hash of its row (x, y) plus its z cell, so the cells of a row along z fall in
-  // consecutive buckets (and, sorted by bucket, in consecutive slots): the three z neighbours of a
-  // cell are one contiguous range, usually on one cache line of the bucket table.
-  std::size_t bucket_of(std::uint64_t cell_key) const {
+  // Regions of space, one per thread (see above): the x axis cut into slabs of whole cell columns,
+  // each slab's cells hashed into its own range of 2^region_bits buckets (so into its own partitions,
+  // sorted and first walked by its thread).
+  static constexpr std::size_t kMaxRegions = 16;
+  struct RegionMap {
+    // The first cell column of regions 1, 2, ... (padded with the largest value: never reached).
+    std::uint32_t first_column[kMaxRegions - 1];
+    int region_bits = 0;
+    // The largest power of two below the number of regions (0: one region).
+    std::size_t search_top = 0;
+    // The first bucket of the region of cell column `column`: the number of borders at or below it, by
+    // a binary search without branches.
+    std::size_t base(std::uint64_t column) const {
+      std::size_t region = 0;
+      for (std::size_t step = search_top; step > 0; step >>= 1)
+        region += column >= first_column[region + step - 1] ? step : 0;
+      return region << region_bits;
+    }
+  };
+  // Bucket of a cell: its region's first bucket plus a hash of its row (x, y) plus its z cell, so the
+  // cells of a row along z fall in consecutive buckets of one region (and, sorted by bucket, in
+  // consecutive slots): the three z neighbours of a cell are one contiguous range (wrapping inside the
+  // region), usually on one cache line of the bucket table.
+  std::size_t bucket_of(std::uint64_t cell_key, const RegionMap& regions) const {
+    return regions.base(column_of(cell_key)) | bucket_in_region(cell_key);
+  }
+  static std::uint64_t column_of(std::uint64_t cell_key) { return cell_key >> (2 * kRowShift); }
+  // A cell's bucket counted from its region's first.
+  std::size_t bucket_in_region(std::uint64_t cell_key) const {
     const std::uint64_t row = cell_key >> kRowShift;
     return static_cast<std::size_t>(((row * 0x9E3779B97F4A7C15ull) >> 20) + (cell_key & kZMask)) &
-           bucket_mask_;
+           region_mask_;
   }
-  // Pairs of slot k with the slots of buckets [first_bucket, first_bucket + count) (mod the table;
-  // in the first bucket only from slot `from` on), whose cell keys are in [key_lo, key_lo + span].
-  void pair_with_buckets(std::size_t k, std::size_t first_bucket, std::size_t count, std::size_t from,
-                         std::uint64_t key_lo, std::uint64_t span, HitBatch& hits,
+  // Pairs of slot k with the slots of buckets [first, first + count) of the region starting at bucket
+  // `region` (wrapping at its end; in the first bucket only from slot `from` on), whose cell keys are in
+  // [key_lo, key_lo + span].
+  void pair_with_buckets(std::size_t k, std::size_t region, std::size_t first, std::size_t count,
+                         std::size_t from, std::uint64_t key_lo, std::uint64_t span, HitBatch& hits,
                          std::vector<CandidatePair>& out) const;
   // Pairs of slot k with the slots [first, last) whose cell keys are in [key_lo, key_lo + span]: the
   // box hits go to `hits`, which is filtered into `out` whenever it fills.
   void pair_with_slots(std::size_t k, std::size_t first, std::size_t last, std::uint64_t key_lo,
                        std::uint64_t span, HitBatch& hits, std::vector<CandidatePair>& out) const;
-  // Whether any of the buckets [first_bucket, first_bucket + count) (mod the table) holds a slot.
-  bool any_occupied(std::size_t first_bucket, std::size_t count) const {
+  // Whether any of the buckets [first, first + count) of the region starting at bucket `region`
+  // (wrapping at its end) holds a slot.
+  bool any_occupied(std::size_t region, std::size_t first, std::size_t count) const {
     for (std::size_t d = 0; d < count; ++d) {
-      const std::size_t b = (first_bucket + d) & bucket_mask_;
+      const std::size_t b = region | ((first + d) & region_mask_);
       if ((occupied_[b >> 6] >> (b & 63)) & 1u) return true;
     }
     return false;
@@ -204,8 +252,9 @@ class BroadPhaseGrid {
   static constexpr int kRowShift = 21;
   static constexpr std::uint64_t kZMask = (std::uint64_t{1} << kRowShift) - 1;
 
-  // One object's grown box (rounded outwards to floats), cell key, population index and chord word: 48
-  // bytes, and the whole record the sort moves, so sorting never reads another thread's boxes at random.
+  // One object's grown box (rounded outwards to floats), cell key, bucket, population index and chord
+  // word: 48 bytes, and the whole record the sort moves, so sorting never reads another thread's boxes at
+  // random.
   struct GridBox {
     float lo[3], hi[3];
     // Which axes the box crosses into the next cell on (bit 0: x, 1: y, 2: z). A box that stays in its
@@ -214,16 +263,28 @@ class BroadPhaseGrid {
     std::uint32_t crosses;
     std::uint32_t index;
     std::uint64_t key;
-    std::uint32_t chord;  // chord_word
+    std::uint32_t chord;   // chord_word
+    std::uint32_t bucket;  // bucket_of(key), kept for the scatter and the sort
   };
+  static_assert(sizeof(GridBox) == 48);
 
   double cell_size_m_ = 0.0;
   // The cell edge to try first in the next build: the candidates never depend on it (only on the boxes),
   // so carrying it from step to step changes no result, and saves a pass when it fits.
   double next_cell_m_ = 0.0;
   std::size_t builds_ = 0, rekeyed_builds_ = 0;
-  std::size_t bucket_mask_ = 0;
-  int coarse_bits_ = 0, fine_bits_ = 0;
+  std::size_t regions_ = 1, region_mask_ = 0, partitions_ = 1;
+  int region_bits_ = 0, fine_bits_ = 0;
+  RegionMap region_map_;  // this build's, for the walk
+  // Where the regions' borders go: a histogram of the lower x corners of the last build's boxes
+  // (kHistogramBins bins of hist_width_m_ from hist_origin_m_), summed over the threads; the bins for
+  // the next build's histogram, from the last build's extent in x.
+  static constexpr std::size_t kHistogramBins = 256;
+  std::vector<std::uint32_t> hist_;
+  double hist_origin_m_ = 0.0, hist_width_m_ = 0.0;
+  double bin_origin_m_ = -1.0e7, bin_width_m_ = 2.0e7 / kHistogramBins;
+  std::vector<std::uint32_t> thread_hist_;  // per thread: its chunk's histogram
+  std::vector<double> thread_x_range_;      // per thread: its chunk's lowest and highest lower x
   std::size_t prepared_threads_ = 0;
   std::size_t slots_in_grid_ = 0;
   std::vector<GridBox> box_;  // per object (population index)

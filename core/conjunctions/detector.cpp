@@ -99,9 +99,11 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
     lists.events.clear();
     lists.collected_at = t_begin;
   }
+  if (walk_cursors_.size() < static_cast<std::size_t>(threads))
+    walk_cursors_ = std::vector<WalkCursor>(static_cast<std::size_t>(threads));
+  for (WalkCursor& cursor : walk_cursors_) cursor.claimed.store(0, std::memory_order_relaxed);
   // One region per step: the grid (three barriers inside), then each thread collects its share of
   // candidate pairs into its own compact array and runs the narrow phase on them, with no barrier.
-  std::atomic<std::size_t> next_slot{0};  // the walk's next unclaimed slot
   TeamTimeline& timeline = detector_timeline();
   timeline.region_start(static_cast<std::size_t>(threads));
 #pragma omp parallel num_threads(threads)
@@ -109,26 +111,28 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
     const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
     timeline.enter(t);
     grid_.build_in_team(step, settings_.narrow_phase, share, max_motion_m, use_hulls);
-    const std::size_t slots = grid_.slot_count();
     std::vector<CandidatePair>& mine = per_thread_[t].candidates;
-    // Runs of slots handed out as the threads ask (dense regions of the sky cost more), guided: each
-    // claim takes half a thread's share of what is left, at least kMinRun slots (~10 us of walk on one
-    // core). Long runs first (few claims, neighbouring cells read by one core, one call and one hit
-    // batch per run), short ones at the end, when the last ones decide when the team is done: runs of
-    // 1,024 slots throughout left 16 threads on 19,647 objects waiting ~40 us a step at the join.
+    // The walk: each thread first walks the slots it sorted (its region of space, whose neighbour
+    // cells are mostly its own too, so it reads lines its own core wrote), then helps with the others'.
+    // Runs are claimed as the threads ask (dense regions of the sky cost more), guided: the owner takes
+    // half of what is left of its slots, a helper a quarter, at least kMinRun slots (~10 us of walk on
+    // one core): few claims, and short runs at the end, when the last ones decide when the team is done.
     constexpr std::size_t kMinRun = 128;
     const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());
-    auto claim_run = [&](std::size_t& begin, std::size_t& end) {
-      begin = next_slot.load(std::memory_order_relaxed);
-      std::size_t run = 0;
-      do {
-        if (begin >= slots) return false;
-        run = std::max((slots - begin) / (2 * team), kMinRun);
-      } while (!next_slot.compare_exchange_weak(begin, begin + run, std::memory_order_relaxed));
-      end = std::min(slots, begin + run);
-      return true;
-    };
-    for (std::size_t begin = 0, end = 0; claim_run(begin, end);) grid_.collect_pairs(begin, end, mine);
+    for (std::size_t d = 0; d < team; ++d) {
+      const std::size_t owner = (t + d) % team;
+      const auto [first, last] = grid_.sorted_slots(owner, team);
+      std::atomic<std::size_t>& claimed = walk_cursors_[owner].claimed;
+      const std::size_t divisor = d == 0 ? 2 : 4;
+      for (std::size_t taken = claimed.load(std::memory_order_relaxed);;) {
+        const std::size_t left = last - first - std::min(taken, last - first);
+        if (left == 0) break;
+        const std::size_t run = std::min(left, std::max(left / divisor, kMinRun));
+        if (!claimed.compare_exchange_weak(taken, taken + run, std::memory_order_relaxed)) continue;
+        grid_.collect_pairs(first + taken, first + taken + run, mine);
+        taken = claimed.load(std::memory_order_relaxed);
+      }
+    }
     const std::int64_t oversized = static_cast<std::int64_t>(grid_.oversized_count());
 #pragma omp for schedule(dynamic, 1) nowait
     for (std::int64_t o = 0; o < oversized; ++o)

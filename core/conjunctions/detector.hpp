@@ -2,6 +2,7 @@
 // paper's status rules, canonical output order.
 #pragma once
 
+#include <atomic>
 #include <optional>
 #include <string>
 #include <vector>
@@ -57,6 +58,11 @@ class ConjunctionDetector {
     double collected_at = 0.0;  // when its candidates were complete
   };
   std::vector<ThreadLists> per_thread_;
+  // Per thread: how many of the slots it sorted have been claimed for the walk (by it or by others).
+  struct alignas(64) WalkCursor {
+    std::atomic<std::size_t> claimed{0};
+  };
+  std::vector<WalkCursor> walk_cursors_;
 };
 
 }  // namespace kessler

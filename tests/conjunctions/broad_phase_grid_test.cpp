@@ -59,14 +59,15 @@ double closest_distance(const StateArrays& s, std::size_t i, std::size_t j, doub
   return std::sqrt(distance2(0.5 * (a + b)));
 }
 
-// Objects around (7000 km, 0, 0) in a cube of `extent_m`, at LEO speeds in random directions.
-StateArrays dense_population(std::size_t n, double extent_m, unsigned seed) {
+// Objects around (7000 km, 0, 0) in a cube of `extent_m` (or a box `x_extent_m` long in x), at LEO
+// speeds in random directions.
+StateArrays dense_population(std::size_t n, double extent_m, unsigned seed, double x_extent_m = 0.0) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-0.5, 0.5);
   StateArrays s;
   s.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    s.x[i] = 7.0e6 + extent_m * u(rng);
+    s.x[i] = 7.0e6 + (x_extent_m > 0.0 ? x_extent_m : extent_m) * u(rng);
     s.y[i] = extent_m * u(rng);
     s.z[i] = extent_m * u(rng);
     s.vx[i] = 15000.0 * u(rng);
@@ -165,8 +166,9 @@ TEST(BroadPhaseGrid, CellCarriedBetweenStepsWhetherBoxesGrowOrShrink) {
 }
 
 TEST(BroadPhaseGrid, SamePairsOnceForAnyThreadCount) {
-  // Each thread sorts a contiguous run of the coarse partitions. 3,000 objects on 7 threads have 8
-  // partitions (one thread sorts two); 1,200 objects have 4, so three of the 7 threads sort none.
+  // Each thread sorts the partitions of its region of space (slabs of x). In a first build the regions'
+  // borders come from that build's own objects; 7 regions over the ~5 cell columns of these clouds
+  // leave some regions empty.
   const int saved = omp_get_max_threads();
   for (const StateArrays& s : {dense_population(3000, 4.0e5, 3), dense_population(1200, 3.0e5, 5)}) {
     std::size_t listed = 0;
@@ -181,6 +183,31 @@ TEST(BroadPhaseGrid, SamePairsOnceForAnyThreadCount) {
       EXPECT_EQ(listed, one.size()) << threads << " threads: a pair listed twice";
     }
   }
+  omp_set_num_threads(saved);
+}
+
+TEST(BroadPhaseGrid, RegionsBalanceTheThreadsAndKeepEveryPairAcrossTheirBorders) {
+  // 4,000 objects in a box 1,600 km long in x (~19 cell columns), on 4 threads: after a first build,
+  // the borders come from the last build's histogram. Pairs across the borders (rows of the next
+  // column in the next region) must all be found, each once, and each thread must sort about a quarter
+  // of the slots.
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(4);
+  const StateArrays s = dense_population(4000, 3.0e5, 6, 1.6e6);
+  BroadPhaseGrid grid;
+  expect_grid_matches_all_pairs(s, 10.0, 5000.0, &grid);  // borders from this build's histogram
+  expect_grid_matches_all_pairs(s, 10.0, 5000.0, &grid);  // borders from the last build's
+  EXPECT_GT(1.6e6 / grid.cell_size_m(), 12.0);            // several columns per region
+  std::size_t covered = 0;
+  for (std::size_t t = 0; t < 4; ++t) {
+    const auto [first, last] = grid.sorted_slots(t, 4);
+    EXPECT_EQ(first, covered) << "thread " << t;
+    covered = last;
+    const double share = static_cast<double>(last - first) / static_cast<double>(grid.slot_count());
+    EXPECT_GT(share, 0.15) << "thread " << t;
+    EXPECT_LT(share, 0.35) << "thread " << t;
+  }
+  EXPECT_EQ(covered, grid.slot_count());
   omp_set_num_threads(saved);
 }
 
