@@ -188,6 +188,28 @@ void region_borders_m(const std::uint32_t* hist, std::size_t bins, double origin
                                          static_cast<double>(regions);
 }
 
+// A histogram's bins for the next build: the range of the last one's central 99 % (0.5 % of the objects
+// may lie beyond any bound: objects far out, on escape orbits or diverging, would otherwise stretch the
+// bins until all others share one), widened by an eighth on each side, and twice as wide on a side
+// whose end bin holds more (objects clamped there). Unchanged when the last one is empty.
+void histogram_bins_m(const std::uint32_t* hist, std::size_t bins, double origin, double width,
+                      double& next_origin, double& next_width) {
+  double total = 0.0;
+  for (std::size_t b = 0; b < bins; ++b) total += hist[b];
+  if (!(total > 0.0)) return;
+  const double tail = 0.005 * total;
+  std::size_t low = 0, high = bins - 1;
+  for (double below = 0.0; low + 1 < bins && below + hist[low] <= tail; ++low) below += hist[low];
+  for (double above = 0.0; high > low && above + hist[high] <= tail; --high) above += hist[high];
+  double lo = origin + static_cast<double>(low) * width, hi = origin + static_cast<double>(high + 1) * width;
+  const double span = hi - lo;
+  if (low == 0) lo -= span;
+  if (high == bins - 1) hi += span;
+  const double margin = 0.125 * (hi - lo);
+  next_origin = lo - margin;
+  next_width = (hi - lo + 2.0 * margin) / static_cast<double>(bins);
+}
+
 }  // namespace
 
 void BroadPhaseGrid::prepare(std::size_t n, int threads) {
@@ -237,7 +259,6 @@ void BroadPhaseGrid::prepare(std::size_t n, int threads) {
   partition_start_.resize(partitions);
   hist_.resize(kHistogramBins);
   thread_hist_.resize(team * kHistogramBins);
-  thread_x_range_.resize(2 * team);
   prepared_threads_ = team;
 }
 
@@ -286,9 +307,11 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   for (std::size_t power = 1; power < regions; power *= 2) map.search_top = power;
   std::fill(std::begin(map.first_column), std::end(map.first_column), ~std::uint32_t{0});
   double borders_m[kMaxRegions - 1];
-  const double bin_origin = bin_origin_m_, bin_width = bin_width_m_;
-  if (regions > 1)
+  double bin_origin = kDefaultBinOrigin_m, bin_width = kDefaultBinWidth_m;  // this build's histogram's
+  if (regions > 1) {
     region_borders_m(hist_.data(), kHistogramBins, hist_origin_m_, hist_width_m_, regions, borders_m);
+    histogram_bins_m(hist_.data(), kHistogramBins, hist_origin_m_, hist_width_m_, bin_origin, bin_width);
+  }
 
   // Cell keys, the crossing bits and the coarse counts of this thread's chunk for cell edge `cell`.
   // The counts go to the shared array once, at the end: every thread reads all of them after the
@@ -296,8 +319,9 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   // on 19,647 objects spent 3x longer here than one thread's share).
   auto key_chunk = [&](double cell) {
     const double inverse_cell = 1.0 / cell;
+    // Each region starts at the column edge nearest its border.
     for (std::size_t s = 0; s + 1 < regions; ++s)
-      map.first_column[s] = static_cast<std::uint32_t>(axis_cell(borders_m[s], inverse_cell));
+      map.first_column[s] = static_cast<std::uint32_t>(axis_cell(borders_m[s] + 0.5 * cell, inverse_cell));
     std::uint32_t local_counts[kMaxPartitions] = {};
     for (std::size_t i = begin; i < end; ++i) {
       GridBox& box = box_[i];
@@ -357,19 +381,14 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     // The histogram of the lower x corners for the regions' borders, and their extent, on every
     // kHistogramStride-th object (the borders only balance the threads' work: no result depends on them).
     std::uint32_t local_hist[kHistogramBins] = {};
-    float x_lowest = INFINITY, x_highest = -INFINITY;
     const double inverse_bin = 1.0 / bin_width;
     for (std::size_t i = begin; i < end; i += kHistogramStride) {
       if (oversized_flags[i]) continue;
       const float x = box_lo_[0][i];
       const double q = (x - bin_origin) * inverse_bin;
       ++local_hist[q <= 0.0 ? 0 : q >= kHistogramBins - 1 ? kHistogramBins - 1 : static_cast<std::size_t>(q)];
-      x_lowest = std::min(x_lowest, x);
-      x_highest = std::max(x_highest, x);
     }
     std::copy(local_hist, local_hist + kHistogramBins, &thread_hist_[t * kHistogramBins]);
-    thread_x_range_[2 * t] = x_lowest;
-    thread_x_range_[2 * t + 1] = x_highest;
   }
   if (hermite && with_hulls) {
     // The hulls, in their own loop: their 64-byte stores would keep the box loop from vectorising.
@@ -442,20 +461,8 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     next_cell_m_ = (fits && cell <= needed * kCellShrinkRatio) ? cell : needed;
     region_map_ = map;
     if (regions > 1) {
-      // The histogram's bins as it was made, and the next one's: this build's extent in x, a little
-      // wider.
-      hist_origin_m_ = bin_origin;
+      hist_origin_m_ = bin_origin;  // the bins this build's histogram is made of
       hist_width_m_ = bin_width;
-      double x_lowest_all = INFINITY, x_highest_all = -INFINITY;
-      for (std::size_t u = 0; u < threads; ++u) {
-        x_lowest_all = std::min(x_lowest_all, thread_x_range_[2 * u]);
-        x_highest_all = std::max(x_highest_all, thread_x_range_[2 * u + 1]);
-      }
-      if (x_lowest_all <= x_highest_all) {
-        const double margin = 0.01 * (x_highest_all - x_lowest_all) + 1.0;
-        bin_origin_m_ = x_lowest_all - margin;
-        bin_width_m_ = (x_highest_all - x_lowest_all + 2.0 * margin) / static_cast<double>(kHistogramBins);
-      }
     }
   }
   // Coarse scatter of this thread's boxes into its own region of scratch_ (regions in thread order),
