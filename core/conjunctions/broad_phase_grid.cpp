@@ -378,8 +378,8 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       largest_edge = std::max(largest_edge, double{box_hi_[k][i]} - double{box_lo_[k][i]});
   }
   if (regions > 1) {
-    // The histogram of the lower x corners for the regions' borders, and their extent, on every
-    // kHistogramStride-th object (the borders only balance the threads' work: no result depends on them).
+    // The histogram of the lower x corners for the regions' borders, on every kHistogramStride-th
+    // object (the borders only balance the threads' work: no result depends on them).
     std::uint32_t local_hist[kHistogramBins] = {};
     const double inverse_bin = 1.0 / bin_width;
     for (std::size_t i = begin; i < end; i += kHistogramStride) {
@@ -416,14 +416,19 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   for (std::size_t u = 0; u < threads; ++u) largest = std::max(largest, thread_edge_[u]);
   double cell = guess;
   const bool fits = guess > 0.0 && largest * (1.0 + 1e-9) <= guess;  // 1e-9: rounding of the keys
+  // Bin b of this build's histogram, over all threads' chunks.
+  auto summed_bin = [&](std::size_t b) {
+    std::uint32_t total = 0;
+    for (std::size_t u = 0; u < threads; ++u) total += thread_hist_[u * kHistogramBins + b];
+    return total;
+  };
   if (!fits) {
     // The guess is too small (or there is none): key again with a cell of this step's largest edge.
     cell = std::max(largest, 1.0) * (1.0 + kCellMargin);
     if (regions > 1) {
       // The borders from this build's histogram, all threads' (rare: only the first build needs it).
-      std::uint32_t hist[kHistogramBins] = {};
-      for (std::size_t u = 0; u < threads; ++u)
-        for (std::size_t b = 0; b < kHistogramBins; ++b) hist[b] += thread_hist_[u * kHistogramBins + b];
+      std::uint32_t hist[kHistogramBins];
+      for (std::size_t b = 0; b < kHistogramBins; ++b) hist[b] = summed_bin(b);
       region_borders_m(hist, kHistogramBins, bin_origin, bin_width, regions, borders_m);
     }
     key_chunk(cell);
@@ -432,11 +437,8 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   if (regions > 1) {
     // This build's histogram, summed over the threads for the next build's borders: a slice of the bins
     // each (every thread has read the last one by now).
-    for (std::size_t b = kHistogramBins * t / threads; b < kHistogramBins * (t + 1) / threads; ++b) {
-      std::uint32_t total = 0;
-      for (std::size_t u = 0; u < threads; ++u) total += thread_hist_[u * kHistogramBins + b];
-      hist_[b] = total;
-    }
+    for (std::size_t b = kHistogramBins * t / threads; b < kHistogramBins * (t + 1) / threads; ++b)
+      hist_[b] = summed_bin(b);
   }
   timeline.mark(t, kDetRekey);
 
@@ -776,7 +778,7 @@ void BroadPhaseGrid::pair_with_buckets(std::size_t k, std::size_t region, std::s
 void BroadPhaseGrid::collect_pairs(std::size_t slot_begin, std::size_t slot_end,
                                    std::vector<CandidatePair>& out) const {
   HitBatch hits;
-  if (region_map_.search_top == 0) {
+  if (regions_ == 1) {
     collect_pairs_in<false>(slot_begin, slot_end, 0, 0, hits, out);
   } else {
     // Region by region (each holds a contiguous run of slots): the slots' region is then known, and
