@@ -275,6 +275,8 @@ class BroadPhaseGrid {
   // so carrying it from step to step changes no result, and saves a pass when it fits.
   double next_cell_m_ = 0.0;
   std::size_t builds_ = 0, rekeyed_builds_ = 0;
+  // The cell edge over the largest box edge (>= 1: coarser cells where the population is sparse).
+  double coarsening_ = 1.0;
   std::size_t regions_ = 1, region_mask_ = 0, partitions_ = 1;
   int region_bits_ = 0, fine_bits_ = 0;
   RegionMap region_map_;  // this build's, for the walk
@@ -313,6 +315,10 @@ class BroadPhaseGrid {
   std::vector<std::uint32_t> coarse_count_, group_start_, partition_start_;
   std::vector<std::vector<std::uint32_t>> thread_oversized_;
   std::vector<double> thread_edge_;  // per thread: the largest box edge of its chunk
+  // Per thread: the occupied buckets of the partitions it sorted in the last build (of a team of
+  // occupancy_team_), for the coarsening.
+  std::vector<std::uint32_t> thread_occupied_;
+  std::size_t occupancy_team_ = 0;
 };
 
 }  // namespace kessler

@@ -165,6 +165,19 @@ TEST(BroadPhaseGrid, CellCarriedBetweenStepsWhetherBoxesGrowOrShrink) {
   EXPECT_EQ(grid.builds(), 5u);
 }
 
+TEST(BroadPhaseGrid, SparseCloudsGetCoarserCellsWithTheSamePairs) {
+  // 3,000 objects in a 1,500 km cube, dt 10 s, a 20 km share: about 1.4 objects per cell of the largest
+  // box's edge. Build by build the cell grows until cells hold several objects (a walk with fewer
+  // lookups per object), and every build still lists exactly the overlapping pairs, each once.
+  const StateArrays sparse = dense_population(3000, 1.5e6, 7);
+  BroadPhaseGrid grid;
+  expect_grid_matches_all_pairs(sparse, 10.0, 20000.0, &grid, false);
+  const double edge_cell = grid.cell_size_m();  // a first build fits the largest box
+  for (int build = 0; build < 8; ++build) expect_grid_matches_all_pairs(sparse, 10.0, 20000.0, &grid, false);
+  EXPECT_GT(grid.cell_size_m(), 1.4 * edge_cell);
+  EXPECT_LT(grid.cell_size_m(), 2.5 * edge_cell);  // ~4-8 objects per occupied cell, no more
+}
+
 TEST(BroadPhaseGrid, SamePairsOnceForAnyThreadCount) {
   // Each thread sorts the partitions of its region of space (slabs of x). In a first build the regions'
   // borders come from that build's own objects; 7 regions over the ~5 cell columns of these clouds

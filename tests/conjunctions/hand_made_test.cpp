@@ -253,3 +253,31 @@ TEST(HandMade, AbsurdObjectsNeitherBreakNorSlowTheGrid) {
 
 }  // namespace
 }  // namespace kessler
+
+namespace kessler {
+namespace {
+
+TEST(HandMade, FarOutPairMeetsThoughItsBoxesAreTooCoarseForTheGrid) {
+  // Real catalogs hold objects far out (the paper's, some at ~10^12 m: elements that no longer describe
+  // a near-Earth orbit). At 2 x 10^12 m rounding to floats widens each box by ~480 km a side, more than
+  // any bound orbit sweeps in the step, so these objects are tested against every object instead of
+  // through the grid (whose cell would otherwise grow to fit them): a head-on pair there (60 m apart in
+  // radius) is found as surely as one in LEO, each once.
+  const double tc = 123.4, tf = 77.7, r1 = kRadius, r2 = kRadius + 60.0, f1 = 2.0e12, f2 = 2.0e12 + 60.0;
+  const std::vector<KeplerState> objects = {circular(r1, X, Y, -rate(r1) * tc), circular(f1, Y, Z, -rate(f1) * tf),
+                                            circular(r2, X, -Y, -rate(r2) * tc),
+                                            circular(f2, Y, -Z, -rate(f2) * tf)};
+  const auto pop = testing::simple_population(objects, 5.0);  // kappa 10: threshold 100 m
+  const auto events = testing::run_detector(pop, testing::kepler_snapshots(objects, 10.0, 20), 10.0, {});
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(events[0].id1, 2u);  // the far pair meets first
+  EXPECT_EQ(events[0].id2, 4u);
+  EXPECT_NEAR(events[0].tca_s, tf, 1e-3);
+  EXPECT_NEAR(events[0].miss_distance_m, 60.0, 0.01);
+  EXPECT_EQ(events[1].id1, 1u);
+  EXPECT_EQ(events[1].id2, 3u);
+  EXPECT_NEAR(events[1].tca_s, tc, 1e-3);
+}
+
+}  // namespace
+}  // namespace kessler
