@@ -497,7 +497,8 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     if (regions > 1) {
       // The histogram's bins span 1.25x the central 99 % of the lower x corners (histogram_bins_m).
       const double span_m = static_cast<double>(kHistogramBins) * bin_width / 1.25;
-      wanted = std::min(wanted, std::max(needed, span_m / (kMinColumnsPerRegion * static_cast<double>(regions))));
+      wanted =
+          std::min(wanted, std::max(needed, span_m / (kMinColumnsPerRegion * static_cast<double>(regions))));
     }
     next_cell_m_ = (fits && cell >= wanted && cell <= wanted * kCellShrinkRatio) ? cell : wanted;
     region_map_ = map;

@@ -11,9 +11,11 @@
 // that distance even allowing each to be anywhere in its box at any time.
 // The grid's cell edge L is at least the largest edge of any grown box in this step: the largest
 // displacement of an object in the step along an axis plus the largest threshold share, i.e. the
-// cutoff. (It is the last step's largest edge plus 0.5 % when this step's boxes fit in that, else this
-// step's plus 0.5 %: the candidates depend only on the boxes, never on L, and the keys are then computed
-// in the same pass as the boxes, with no wait for the maximum.) If two boxes overlap on an axis, lo_j <= hi_i
+// cutoff. (It is guessed from the last step, the keys then computed in the same pass as the boxes with
+// no wait for the maximum, and computed again from this step's largest edge plus 0.5 % when the boxes
+// do not fit the guess: the candidates depend only on the boxes, never on L. Where the population is
+// sparse, L is a multiple of the largest edge, chosen so that occupied cells hold 4-8 objects: see
+// kSparseObjectsPerCell.) If two boxes overlap on an axis, lo_j <= hi_i
 // <= lo_i + L and lo_i <= lo_j + L, so their lower corners are within L and fall in the same or adjacent
 // cells. Every overlapping pair is therefore found by looking at a cell and its 26 neighbours (13 forward
 // ones plus itself, each unordered pair once), and the exact box-overlap test keeps only real candidates. An
@@ -23,8 +25,9 @@
 //
 // Objects whose motion spans more than that bound along an axis (non-finite or unbound states: a propagation
 // gone wrong, an object falling through the Earth before its burn-up is applied) would blow the cell up and
-// make every pair a neighbour. They are kept out of the grid and tested against every object instead
-// (O(N) each), so one bad object costs O(N), not O(N^2).
+// make every pair a neighbour. So would objects far out (real catalogs hold some at ~10^12 m), whose
+// boxes, rounded to floats, are wider than that bound. They are kept out of the grid and tested against
+// every object instead (O(N) each, in vector lanes), so one bad object costs O(N), not O(N^2).
 //
 // Cells are hashed into a table of >= 4 N buckets: a hash of the cell's (x, y) row plus its z index, so
 // the cells along z are consecutive buckets and the 13 forward neighbours are 5 bucket ranges (own cell

@@ -264,9 +264,9 @@ TEST(HandMade, FarOutPairMeetsThoughItsBoxesAreTooCoarseForTheGrid) {
   // through the grid (whose cell would otherwise grow to fit them): a head-on pair there (60 m apart in
   // radius) is found as surely as one in LEO, each once.
   const double tc = 123.4, tf = 77.7, r1 = kRadius, r2 = kRadius + 60.0, f1 = 2.0e12, f2 = 2.0e12 + 60.0;
-  const std::vector<KeplerState> objects = {circular(r1, X, Y, -rate(r1) * tc), circular(f1, Y, Z, -rate(f1) * tf),
-                                            circular(r2, X, -Y, -rate(r2) * tc),
-                                            circular(f2, Y, -Z, -rate(f2) * tf)};
+  const std::vector<KeplerState> objects = {
+      circular(r1, X, Y, -rate(r1) * tc), circular(f1, Y, Z, -rate(f1) * tf),
+      circular(r2, X, -Y, -rate(r2) * tc), circular(f2, Y, -Z, -rate(f2) * tf)};
   const auto pop = testing::simple_population(objects, 5.0);  // kappa 10: threshold 100 m
   const auto events = testing::run_detector(pop, testing::kepler_snapshots(objects, 10.0, 20), 10.0, {});
   ASSERT_EQ(events.size(), 2u);
