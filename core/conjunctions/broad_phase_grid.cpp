@@ -166,7 +166,7 @@ void grow_boxes(const StateArrays& s0, const StateArrays& s1, const ThresholdSha
       err0 += d0 * d0;
       err1 += d1 * d1;
     }
-    // Far out (~10^8 m and beyond), rounding to floats alone widens a box past any motion's.
+    // Far out (some catalog entries sit at ~10^12 m), rounding to floats alone widens a box past the bound.
     const bool oversized = !(motion_edge <= max_motion) ||
                            !(float_edge <= max_motion + 2.0 * grow + kFarRoundingSlack_m) ||
                            !std::isfinite(lo[0] + lo[1] + lo[2] + hi[0] + hi[1] + hi[2] + grow);
