@@ -26,8 +26,10 @@ constexpr double kRoundingMargin_m = 1e-3;
 // A box's float rounding is 2^-22 of its coordinates on each side (at most 1.7 m in LEO): boxes wider
 // than the motion bound by more than this are far out, and oversized.
 constexpr double kFarRoundingSlack_m = 100.0;
-// The regions' histogram takes every kHistogramStride-th object.
+// The regions' histogram takes every kHistogramStride-th object; its bins span the last one's central
+// 99 % widened by kHistogramMargin of that on each side.
 constexpr std::size_t kHistogramStride = 4;
+constexpr double kHistogramMargin = 0.125;
 // The counting sort's coarse partitions (top bits of the bucket): at most 256.
 constexpr std::size_t kMaxPartitions = 256;
 // The cell edge over the largest box edge: room for the next step's boxes to grow a little, so the
@@ -48,6 +50,15 @@ constexpr double kCoarseningStep = 1.25, kMaxCoarsening = 16.0;
 // With several regions, each keeps at least this many cell columns (the borders fall on column edges:
 // fewer columns would balance the threads badly).
 constexpr double kMinColumnsPerRegion = 4.0;
+
+// The coarsening for the next build, after a build whose sort put `slots` objects in `occupied` cells.
+double next_coarsening(double coarsening, std::size_t slots, std::size_t occupied) {
+  if (occupied == 0) return coarsening;
+  const double per_cell = static_cast<double>(slots) / static_cast<double>(occupied);
+  if (per_cell < kSparseObjectsPerCell) return std::min(coarsening * kCoarseningStep, kMaxCoarsening);
+  if (per_cell > kDenseObjectsPerCell) return std::max(coarsening / kCoarseningStep, 1.0);
+  return coarsening;
+}
 
 // Cell index along one axis, clamped (clamping keeps neighbours neighbours; NaN goes to the edge).
 inline std::uint64_t axis_cell(double coordinate_m, double inverse_cell_m) {
@@ -224,7 +235,7 @@ void histogram_bins_m(const std::uint32_t* hist, std::size_t bins, double origin
   const double span = hi - lo;
   if (low == 0) lo -= span;
   if (high == bins - 1) hi += span;
-  const double margin = 0.125 * (hi - lo);
+  const double margin = kHistogramMargin * (hi - lo);
   next_origin = lo - margin;
   next_width = (hi - lo + 2.0 * margin) / static_cast<double>(bins);
 }
@@ -485,18 +496,12 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     std::size_t occupied = 0;
     for (std::size_t u = 0; u < occupancy_team_; ++u) occupied += thread_occupied_[u];
     occupancy_team_ = threads;
-    if (occupied > 0) {
-      const double per_cell = static_cast<double>(slots_in_grid_) / static_cast<double>(occupied);
-      if (per_cell < kSparseObjectsPerCell)
-        coarsening_ = std::min(coarsening_ * kCoarseningStep, kMaxCoarsening);
-      else if (per_cell > kDenseObjectsPerCell)
-        coarsening_ = std::max(coarsening_ / kCoarseningStep, 1.0);
-    }
+    coarsening_ = next_coarsening(coarsening_, slots_in_grid_, occupied);
     const double needed = std::max(largest, 1.0) * (1.0 + kCellMargin);
     double wanted = needed * coarsening_;
     if (regions > 1) {
-      // The histogram's bins span 1.25x the central 99 % of the lower x corners (histogram_bins_m).
-      const double span_m = static_cast<double>(kHistogramBins) * bin_width / 1.25;
+      // The central 99 % of the lower x corners, from this build's bins (histogram_bins_m).
+      const double span_m = static_cast<double>(kHistogramBins) * bin_width / (1.0 + 2.0 * kHistogramMargin);
       wanted =
           std::min(wanted, std::max(needed, span_m / (kMinColumnsPerRegion * static_cast<double>(regions))));
     }
