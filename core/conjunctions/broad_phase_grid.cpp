@@ -50,6 +50,9 @@ constexpr double kCoarseningStep = 1.25, kMaxCoarsening = 16.0;
 // With several regions, each keeps at least this many cell columns (the borders fall on column edges:
 // fewer columns would balance the threads badly).
 constexpr double kMinColumnsPerRegion = 4.0;
+// The walk's float pre-filter of the chord test runs on cells up to this edge [m] (the detector's are
+// at most the 20,000 km domain): in larger ones its products could overflow.
+constexpr double kFloatFilterMaxCell_m = 2.5e7;
 
 // The coarsening for the next build, after a build whose sort put `slots` objects in `occupied` cells.
 double next_coarsening(double coarsening, std::size_t slots, std::size_t occupied) {
@@ -245,7 +248,7 @@ void histogram_bins_m(const std::uint32_t* hist, std::size_t bins, double origin
 void BroadPhaseGrid::prepare(std::size_t n, int threads) {
   box_.resize(n);
   slot_index_.resize(n);
-  slot_chord_.resize(n);
+  slot_chord_.resize(n + kLanes);
   for (auto& axis : box_lo_) axis.resize(n);
   for (auto& axis : box_hi_) axis.resize(n);
   box_reach_.resize(n);
@@ -488,6 +491,11 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   }
   if (t == 0) {
     cell_size_m_ = cell;
+    // Overlapping boxes' corners are within 2 cell edges on each axis, so the pairs' relative lines
+    // within 3.5. Past kFloatFilterMaxCell_m the float filter's products could overflow: every box hit
+    // then goes to the double filter.
+    float_filter_extent_m_ = static_cast<float>(3.5 * cell);
+    float_filter_off_ = cell <= kFloatFilterMaxCell_m ? 0 : 0xFFFF;
     ++builds_;
     if (!fits) ++rekeyed_builds_;
     // Next step's guess: the largest box edge times the coarsening (this step's cell while that fits
@@ -730,9 +738,6 @@ void BroadPhaseGrid::filter_hits(HitBatch& hits, std::vector<CandidatePair>& out
 #endif
   hits.count = 0;
 }
-#ifdef __AVX512F__
-#pragma GCC diagnostic pop
-#endif
 
 void BroadPhaseGrid::pair_with_slots(std::size_t k, std::size_t first, std::size_t last, std::uint64_t key_lo,
                                      std::uint64_t span, HitBatch& hits,
@@ -752,36 +757,74 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, std::size_t first, std::size
   const __m512i span_lanes = _mm512_set1_epi32(static_cast<int>(span));
   const __m512i key_lo_lanes = _mm512_set1_epi64(static_cast<long long>(key_lo));
   const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-  // Dense regions hit in most groups of lanes, at random: there every group is stored without a branch
-  // (a branch on its hits would be mispredicted half the time). Sparse regions, and the long ranges of
-  // dense debris clouds, hit in almost none: there a group is stored only when it hits (a branch
-  // predicted right), saving the stores. Which regime holds is read from the hit rate so far.
+  // The chord filter's cheap float version on the group's lanes, against slot k's line (see
+  // chords_may_come_within_float): nearly every box hit fails it (at 320,000 objects, 2.5 box hits per
+  // object and step, of which 1 in 1,000 is kept), so only its survivors go to the batch, where the
+  // double filter decides.
+  const std::uint32_t* chord = slot_chord_.data();
+  const std::uint32_t word_a = chord[k];
+  // Slot k's line, without a branch (its direction bits are random): where the filter runs on every
+  // group, once; elsewhere only for the groups that hit, which are few.
+  __m512 start_a[3], end_a[3];
+  auto self_line = [&] {
+    const __m512 lo_a[3] = {lo0_a, lo1_a, lo2_a}, hi_a[3] = {hi0_a, hi1_a, hi2_a};
+    for (int axis = 0; axis < 3; ++axis) {
+      const auto rising = static_cast<__mmask16>(0u - ((word_a >> axis) & 1u));
+      start_a[axis] = _mm512_mask_blend_ps(rising, hi_a[axis], lo_a[axis]);
+      end_a[axis] = _mm512_mask_blend_ps(rising, lo_a[axis], hi_a[axis]);
+    }
+  };
+  const float* const lo_arrays[3] = {lo0, lo1, lo2};
+  const float* const hi_arrays[3] = {hi0, hi1, hi2};
+  // Dense regions hit boxes in most groups of lanes, at random: there the float filter runs on every
+  // group without a branch (a branch on the box hits would be mispredicted half the time). Sparse
+  // regions, and the long ranges of dense debris clouds, hit in almost none: there it runs only on
+  // groups that hit (a branch predicted right). Which regime holds is read from the hit rate so far;
+  // either way the batch gets the same hits.
   std::size_t groups = 0, found = 0;
-  auto walk = [&](auto store_every_group) {
+  auto walk = [&](auto filter_every_group) {
+    if constexpr (decltype(filter_every_group)::value) self_line();
     for (std::size_t base = first; base < last; base += kLanes, ++groups) {
-      __mmask16 hit = _mm512_cmp_ps_mask(lo0_a, _mm512_loadu_ps(hi0 + base), _CMP_LE_OQ);
-      hit = _mm512_mask_cmp_ps_mask(hit, _mm512_loadu_ps(lo0 + base), hi0_a, _CMP_LE_OQ);
-      hit = _mm512_mask_cmp_ps_mask(hit, lo1_a, _mm512_loadu_ps(hi1 + base), _CMP_LE_OQ);
-      hit = _mm512_mask_cmp_ps_mask(hit, _mm512_loadu_ps(lo1 + base), hi1_a, _CMP_LE_OQ);
-      hit = _mm512_mask_cmp_ps_mask(hit, lo2_a, _mm512_loadu_ps(hi2 + base), _CMP_LE_OQ);
-      hit = _mm512_mask_cmp_ps_mask(hit, _mm512_loadu_ps(lo2 + base), hi2_a, _CMP_LE_OQ);
-      if (last - base < kLanes) hit &= static_cast<__mmask16>((1u << (last - base)) - 1u);
-      if constexpr (!decltype(store_every_group)::value) {
-        if (hit == 0) continue;
+      __m512 lo[3], hi[3];
+      for (int axis = 0; axis < 3; ++axis) {
+        lo[axis] = _mm512_loadu_ps(lo_arrays[axis] + base);
+        hi[axis] = _mm512_loadu_ps(hi_arrays[axis] + base);
       }
-      // The hits' slots, packed, go to the batch's end, and the range's own values into all 16 entries
-      // there, of which the first popcount(hit) count: no branch per hit, whose outcome is random.
-      // (The compress is done in a register: its store form is slow on some cores.)
+      __mmask16 hit = _mm512_cmp_ps_mask(lo0_a, hi[0], _CMP_LE_OQ);
+      hit = _mm512_mask_cmp_ps_mask(hit, lo[0], hi0_a, _CMP_LE_OQ);
+      hit = _mm512_mask_cmp_ps_mask(hit, lo1_a, hi[1], _CMP_LE_OQ);
+      hit = _mm512_mask_cmp_ps_mask(hit, lo[1], hi1_a, _CMP_LE_OQ);
+      hit = _mm512_mask_cmp_ps_mask(hit, lo2_a, hi[2], _CMP_LE_OQ);
+      hit = _mm512_mask_cmp_ps_mask(hit, lo[2], hi2_a, _CMP_LE_OQ);
+      if (last - base < kLanes) hit &= static_cast<__mmask16>((1u << (last - base)) - 1u);
+      if constexpr (!decltype(filter_every_group)::value) {
+        if (hit == 0) continue;
+        self_line();
+      }
+      found += static_cast<std::size_t>(std::popcount(static_cast<unsigned>(hit)));
+      const __m512i word = _mm512_loadu_si512(chord + base);
+      __m512 start_b[3], end_b[3];
+      for (int axis = 0; axis < 3; ++axis) {
+        const __mmask16 rising = _mm512_test_epi32_mask(word, _mm512_set1_epi32(1 << axis));
+        start_b[axis] = _mm512_mask_blend_ps(rising, hi[axis], lo[axis]);
+        end_b[axis] = _mm512_mask_blend_ps(rising, lo[axis], hi[axis]);
+      }
+      const __mmask16 keep = hit & (chords_may_come_within_float(
+                                        start_a, end_a, _mm512_set1_ps(chord_word_reach_m(word_a)), start_b,
+                                        end_b, _mm512_castsi512_ps(word), float_filter_extent_m_) |
+                                    float_filter_off_);
+      if (keep == 0) continue;  // nearly always: a branch predicted right
+      // The survivors' slots, packed, go to the batch's end, and the range's own values into all 16
+      // entries there, of which the first popcount(keep) count. (The compress is done in a register:
+      // its store form is slow on some cores.)
       const std::size_t at = hits.count;
       const __m512i slots = _mm512_add_epi32(_mm512_set1_epi32(static_cast<int>(base)), lane);
-      _mm512_storeu_si512(hits.other + at, _mm512_maskz_compress_epi32(hit, slots));
+      _mm512_storeu_si512(hits.other + at, _mm512_maskz_compress_epi32(keep, slots));
       _mm512_storeu_si512(hits.self + at, self);
       _mm512_storeu_si512(hits.span + at, span_lanes);
       _mm512_storeu_si512(hits.key_lo + at, key_lo_lanes);
       _mm512_storeu_si512(hits.key_lo + at + 8, key_lo_lanes);
-      const std::size_t group_hits = static_cast<std::size_t>(std::popcount(static_cast<unsigned>(hit)));
-      hits.count = at + group_hits;
-      found += group_hits;
+      hits.count = at + static_cast<std::size_t>(std::popcount(static_cast<unsigned>(keep)));
       if (hits.nearly_full()) filter_hits(hits, out);
     }
   };
@@ -828,6 +871,9 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, std::size_t first, std::size
   }
 #endif
 }
+#ifdef __AVX512F__
+#pragma GCC diagnostic pop
+#endif
 
 void BroadPhaseGrid::pair_with_buckets(std::size_t k, std::size_t region, std::size_t first,
                                        std::size_t count, std::size_t from, std::uint64_t key_lo,

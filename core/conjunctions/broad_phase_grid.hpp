@@ -70,10 +70,13 @@
 // Each pair whose boxes overlap must also pass the chord filter (step_chord.hpp) to become a candidate:
 // in dense populations most such pairs cross the common region at different times, and the filter, on
 // the float corners the walk holds plus one word per slot (reach and direction bits), drops them (at
-// 320,000 objects, 2.4 box pairs per object and step, 0.1 % kept). The walk hands its hits to a batch
-// on which the filter runs 8 at a time; where hits are dense it stores every group of lanes without a
-// branch, where they are sparse only the groups that hit (the rate so far decides: the same hits
-// either way).
+// 320,000 objects, 2.4 box pairs per object and step, 0.1 % kept). With AVX-512 the walk runs a
+// single-precision version of the filter, loose enough never to drop a pair the double one keeps, on
+// the 16 lanes it has just tested (the boxes are in its registers: only the chord words are loaded);
+// where box hits are dense on every group without a branch, where they are sparse only on the groups
+// that hit (the rate so far decides). Its few survivors go to a batch on which the double filter runs
+// 8 at a time. (Batching every box hit for the double filter, which gathers both slots' data, cost
+// 22 ns per object and step at 320,000 objects; the float filter in the walk, about half that.)
 //
 // With Hermite motion the build can also write each object's hull (hermite_hull.hpp): the single-
 // precision Bezier control points on which the narrow phase's cheap filters run first, reading one
@@ -156,10 +159,10 @@ class BroadPhaseGrid {
  private:
   // The walk's box hits waiting for the chord filter and the cell-key check: slot k (self) with slot
   // m (other), whose cell key must lie in [key_lo, key_lo + span]. The walk appends whole groups of
-  // lanes without branching on each hit (where hits are dense, every group, hit or not; where they
-  // are sparse, only groups that hit: pair_with_slots), and filter_hits then runs the filter on many
-  // hits at once, in vector lanes (one hit's filter alone is a long chain of dependent scalar
-  // operations). How the batch is filled never changes what it holds, nor its order.
+  // lanes without branching on each hit (with AVX-512, only those that pass its float filter:
+  // pair_with_slots), and filter_hits then runs the double filter on many hits at once, in vector
+  // lanes (one hit's filter alone is a long chain of dependent scalar operations). How the batch is
+  // filled never changes what it holds, nor its order.
   static constexpr std::size_t kLanes = 16;  // box tests at once in the walk
   struct HitBatch {
     static constexpr std::size_t kCapacity = 256;
@@ -170,8 +173,8 @@ class BroadPhaseGrid {
     alignas(64) std::uint32_t span[kCapacity + kLanes];
     alignas(64) std::uint64_t key_lo[kCapacity + kLanes];
     bool nearly_full() const { return count > kCapacity - kLanes; }
-    // The walk's hit rate so far in this call of collect_pairs (halved now and then, so it follows
-    // the region): groups of lanes tested, and the hits they gave.
+    // The walk's box-hit rate so far in this call of collect_pairs (halved now and then, so it
+    // follows the region): groups of lanes tested, and the box hits they gave.
     std::size_t groups_tested = 0, hits_found = 0;
     void record(std::size_t groups, std::size_t hits) {
       groups_tested += groups;
@@ -181,7 +184,8 @@ class BroadPhaseGrid {
         hits_found /= 2;
       }
     }
-    // More than one hit per 4 groups: then storing every group costs less than the branches' misses.
+    // More than one box hit per 4 groups: then filtering every group costs less than the branches'
+    // misses (the same at 2 or 8, measured at 40,000 and 80,000 objects).
     bool dense() const { return 4 * hits_found > groups_tested; }
   };
   // collect_pairs on slots of the one region starting at bucket `region`, whose next region starts
@@ -274,6 +278,10 @@ class BroadPhaseGrid {
   static_assert(sizeof(GridBox) == 48);
 
   double cell_size_m_ = 0.0;
+  // The walk's float pre-filter of the chord test (chords_may_come_within_float): the extent of the
+  // pairs' relative lines in this build's cells, and all 16 bits when the cells are too large for it.
+  float float_filter_extent_m_ = 0.0f;
+  std::uint16_t float_filter_off_ = 0;
   // The cell edge to try first in the next build: the candidates never depend on it (only on the boxes),
   // so carrying it from step to step changes no result, and saves a pass when it fits.
   double next_cell_m_ = 0.0;

@@ -4,6 +4,7 @@
 // pairs that cross the same place at different times, or it buys nothing.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -13,6 +14,7 @@
 
 #include "core/conjunctions/broad_phase_grid.hpp"
 #include "core/conjunctions/narrow_phase_hermite.hpp"
+#include "core/conjunctions/step_chord.hpp"
 #include "tests/conjunctions/random_encounter.hpp"
 
 namespace kessler {
@@ -134,6 +136,100 @@ TEST(StepChord, NeverDropsAReportedPairAtAFiveKilometreScreening) {
   EXPECT_GT(t.reported, 1000);
   EXPECT_GT(t.boxes_overlap, 19000);
   EXPECT_LT(t.listed, t.boxes_overlap - 2000);  // a threshold of 5 km keeps more of them
+}
+
+// The walk's single-precision pre-filter (chords_may_come_within_float) against the double test, on
+// relative lines that pass the origin at a miss distance spread around the summed reach (most within
+// 0.1 % of it, where rounding decides), in low orbit and at 42,000 km: it must keep every pair the
+// double test keeps, and drop most of those that pass at 3 reaches or more, or it buys nothing.
+TEST(StepChord, FloatPreFilterKeepsEveryPairTheDoubleTestKeeps) {
+#ifndef __AVX512F__
+  GTEST_SKIP() << "the float pre-filter is built with AVX-512 only";
+#else
+  constexpr int kLanes = 16;
+  const double cell_m = 240e3, extent_m = 3.5 * cell_m;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  auto random_vector = [&](double length) {
+    std::array<double, 3> v;
+    double norm = 0.0;
+    do {
+      for (double& c : v) c = u(rng);
+      norm = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    } while (norm > 1.0 || norm < 1e-3);
+    for (double& c : v) c *= length / norm;
+    return v;
+  };
+  for (const double radius_m : {6.9e6, 4.2e7}) {
+    int double_kept = 0, float_dropped_kept = 0, far = 0, far_dropped = 0;
+    for (int batch = 0; batch < 4000; ++batch) {
+      alignas(64) float lanes[14][kLanes];  // a0, a1, b0, b1 (x, y, z each), reach_a, reach_b
+      bool double_keeps[kLanes];
+      bool is_far[kLanes];
+      for (int lane = 0; lane < kLanes; ++lane) {
+        const float reach_a = static_cast<float>(1.0 + 2000.0 * unit(rng));
+        const float reach_b = static_cast<float>(1.0 + 2000.0 * unit(rng));
+        const double reach = double{reach_a} + double{reach_b};
+        const double factor = lane % 2 == 0 ? 1.0 + 1e-3 * normal(rng) : 20.0 * unit(rng);
+        // The relative line c(s) = miss + (s - s_min) u, closest to the origin at s_min.
+        const auto rel = random_vector(4e5 * unit(rng));
+        auto miss = random_vector(1.0);
+        const double along = miss[0] * rel[0] + miss[1] * rel[1] + miss[2] * rel[2];
+        const double rel2 = rel[0] * rel[0] + rel[1] * rel[1] + rel[2] * rel[2];
+        double miss_norm = 0.0;
+        for (int k = 0; k < 3; ++k) {
+          miss[k] -= rel2 > 0.0 ? along / rel2 * rel[k] : 0.0;
+          miss_norm += miss[k] * miss[k];
+        }
+        miss_norm = std::sqrt(miss_norm);
+        const double s_min = -0.2 + 1.4 * unit(rng);
+        const auto centre = random_vector(radius_m);
+        const auto offset = random_vector(cell_m * unit(rng));
+        const auto motion_b = random_vector(2.25e5 * unit(rng));
+        float f[4][3];
+        for (int k = 0; k < 3; ++k) {
+          const double c0 = miss[k] / miss_norm * factor * reach - s_min * rel[k];
+          const double b0 = centre[k] + offset[k], b1 = b0 + motion_b[k];
+          f[0][k] = static_cast<float>(b0 + c0);
+          f[1][k] = static_cast<float>(b1 + c0 + rel[k]);
+          f[2][k] = static_cast<float>(b0);
+          f[3][k] = static_cast<float>(b1);
+        }
+        double a0[3], a1[3], b0[3], b1[3];
+        for (int k = 0; k < 3; ++k) {
+          a0[k] = f[0][k], a1[k] = f[1][k], b0[k] = f[2][k], b1[k] = f[3][k];
+          for (int end = 0; end < 4; ++end) lanes[3 * end + k][lane] = f[end][k];
+        }
+        lanes[12][lane] = reach_a;
+        lanes[13][lane] = reach_b;
+        double_keeps[lane] = chords_may_come_within(a0, a1, reach_a, b0, b1, reach_b);
+        is_far[lane] = factor >= 3.0;
+      }
+      __m512 a0[3], a1[3], b0[3], b1[3];
+      for (int k = 0; k < 3; ++k) {
+        a0[k] = _mm512_load_ps(lanes[k]);
+        a1[k] = _mm512_load_ps(lanes[3 + k]);
+        b0[k] = _mm512_load_ps(lanes[6 + k]);
+        b1[k] = _mm512_load_ps(lanes[9 + k]);
+      }
+      const __mmask16 keeps = chords_may_come_within_float(
+          a0, a1, _mm512_load_ps(lanes[12]), b0, b1, _mm512_load_ps(lanes[13]), static_cast<float>(extent_m));
+      for (int lane = 0; lane < kLanes; ++lane) {
+        const bool float_keeps = (keeps >> lane) & 1u;
+        double_kept += double_keeps[lane];
+        float_dropped_kept += double_keeps[lane] && !float_keeps;
+        far += is_far[lane];
+        far_dropped += is_far[lane] && !float_keeps;
+      }
+    }
+    std::printf("  radius %.0f km: double keeps %d, float drops %d of them; %d far, float drops %d\n",
+                radius_m / 1e3, double_kept, float_dropped_kept, far, far_dropped);
+    EXPECT_GT(double_kept, 10000);  // many pairs right at the reach
+    EXPECT_EQ(float_dropped_kept, 0);
+    EXPECT_GT(far_dropped, 0.9 * far);
+  }
+#endif
 }
 
 }  // namespace
