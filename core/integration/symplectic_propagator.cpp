@@ -69,13 +69,19 @@ struct RangeSource {
   void* context;
 };
 
+// Objects per tile of the step kernel below: their states (6 x 8 bytes each) stay in L1 from one kick
+// to the next.
+constexpr long kTileObjects = 256;
+
 // The objects of each range of `ranges`, one step. The start states are written to `start` (when not
 // null) in the same pass. No OpenMP region of its own: callers split the objects between their threads.
+// Tile by tile, each drift-kick of the composition is one vector loop over the tile's objects, whose
+// states go back to their arrays (in L1) between kicks. (One loop over the objects with all kicks
+// unrolled inside kept the states in registers, but its ~50 KB of code ran from L2, and its speed
+// changed by 25 % with where the binary's pages fell: leo-19647 took 87 ns per object-step in the
+// propagator, 60 tiled. Every object sees the same operations in the same order: the same bits.)
 template <AtmosphereModel kAtmosphere, bool kKeepStart, int kKicks>
 void composed_ranges(const StepArrays& s, RangeSource ranges, const StepPlan& plan, StateArrays* start) {
-  double a[kKicks + 1], b[kKicks];
-  for (int k = 0; k <= kKicks; ++k) a[k] = plan.drift[k];
-  for (int k = 0; k < kKicks; ++k) b[k] = plan.kick_length[k];
   const ForceInstant* f = plan.f;
   // Local pointers: the loop must not re-read them through `s` (a store could alias it in principle).
   double* __restrict px = s.x;
@@ -94,31 +100,38 @@ void composed_ranges(const StepArrays& s, RangeSource ranges, const StepPlan& pl
   double* __restrict svz = kKeepStart ? start->vz.data() : nullptr;
   long begin = 0, end = 0;
   while (ranges.next(ranges.context, begin, end)) {
-#pragma omp simd
-    for (long i = begin; i < end; ++i) {
-      double x = px[i], y = py[i], z = pz[i];
-      double vx = pvx[i], vy = pvy[i], vz = pvz[i];
-      const double cda = pcda[i], am = pam[i];
+    for (long tile = begin; tile < end; tile += kTileObjects) {
+      const long tile_end = std::min(end, tile + kTileObjects);
       if constexpr (kKeepStart) {
-        sx[i] = x, sy[i] = y, sz[i] = z;
-        svx[i] = vx, svy[i] = vy, svz[i] = vz;
+#pragma omp simd
+        for (long i = tile; i < tile_end; ++i) {
+          sx[i] = px[i], sy[i] = py[i], sz[i] = pz[i];
+          svx[i] = pvx[i], svy[i] = pvy[i], svz[i] = pvz[i];
+        }
       }
-#pragma GCC unroll 8
+#pragma GCC unroll 1
       for (int k = 0; k < kKicks; ++k) {
-        x += a[k] * vx;
-        y += a[k] * vy;
-        z += a[k] * vz;
-        kick<kAtmosphere>(f[k], b[k], x, y, z, vx, vy, vz, cda, am);
+        const ForceInstant& instant = f[k];
+        const double drift = plan.drift[k], kick_length = plan.kick_length[k];
+#pragma omp simd
+        for (long i = tile; i < tile_end; ++i) {
+          double x = px[i], y = py[i], z = pz[i];
+          double vx = pvx[i], vy = pvy[i], vz = pvz[i];
+          x += drift * vx;
+          y += drift * vy;
+          z += drift * vz;
+          kick<kAtmosphere>(instant, kick_length, x, y, z, vx, vy, vz, pcda[i], pam[i]);
+          px[i] = x, py[i] = y, pz[i] = z;
+          pvx[i] = vx, pvy[i] = vy, pvz[i] = vz;
+        }
       }
-      x += a[kKicks] * vx;
-      y += a[kKicks] * vy;
-      z += a[kKicks] * vz;
-      px[i] = x;
-      py[i] = y;
-      pz[i] = z;
-      pvx[i] = vx;
-      pvy[i] = vy;
-      pvz[i] = vz;
+      const double last_drift = plan.drift[kKicks];
+#pragma omp simd
+      for (long i = tile; i < tile_end; ++i) {
+        px[i] += last_drift * pvx[i];
+        py[i] += last_drift * pvy[i];
+        pz[i] += last_drift * pvz[i];
+      }
     }
   }
 }
