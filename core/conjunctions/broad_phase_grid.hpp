@@ -29,9 +29,9 @@
 // boxes, rounded to floats, are wider than that bound. They are kept out of the grid and tested against
 // every object instead (O(N) each, in vector lanes), so one bad object costs O(N), not O(N^2).
 //
-// Cells are hashed into a table of >= 4 N buckets: a hash of the cell's (x, y) row plus its z index, so
+// Cells are hashed into a table of >= 2 N buckets: a hash of the cell's (x, y) row plus its z index, so
 // the cells along z are consecutive buckets and the 13 forward neighbours are 5 bucket ranges (own cell
-// and z + 1; z - 1..z + 1 of four neighbouring rows); an occupancy bitmap (1 bit per bucket, in L1)
+// and z + 1; z - 1..z + 1 of four neighbouring rows); an occupancy bitmap (1 bit per bucket)
 // skips empty ones. Objects are ordered by bucket with a parallel, stable counting sort, so memory and
 // time stay O(N) whatever the domain's size and the result never depends on threads.
 // The build runs inside the caller's parallel region with three barriers (boxes and keys; scatter into
