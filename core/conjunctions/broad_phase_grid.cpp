@@ -494,11 +494,6 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   }
   if (t == 0) {
     cell_size_m_ = cell;
-    // Overlapping boxes' corners are within 2 cell edges on each axis, so the pairs' relative lines
-    // within 3.5. Past kFloatFilterMaxCell_m the float filter's products could overflow: every box hit
-    // then goes to the double filter.
-    float_filter_extent_m_ = static_cast<float>(3.5 * cell);
-    float_filter_off_ = cell <= kFloatFilterMaxCell_m ? 0 : 0xFFFF;
     ++builds_;
     if (!fits) ++rekeyed_builds_;
     // Next step's guess: the largest box edge times the coarsening (this step's cell while that fits
@@ -779,6 +774,11 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, std::size_t first, std::size
       end_a[axis] = _mm512_mask_blend_ps(rising, lo_a[axis], hi_a[axis]);
     }
   };
+  // Overlapping boxes' corners are within 2 cell edges on each axis, so the pairs' relative lines within
+  // 3.5. Past kFloatFilterMaxCell_m the float filter's products could overflow: every box hit then goes
+  // to the double filter.
+  const float filter_extent_m = static_cast<float>(3.5 * cell_size_m_);
+  const __mmask16 filter_off = cell_size_m_ <= kFloatFilterMaxCell_m ? 0 : 0xFFFF;
   const float* const lo_arrays[3] = {lo0, lo1, lo2};
   const float* const hi_arrays[3] = {hi0, hi1, hi2};
   // Dense regions hit boxes in most groups of lanes, at random: there the float filter runs on every
@@ -814,10 +814,10 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, std::size_t first, std::size
         start_b[axis] = _mm512_mask_blend_ps(rising, hi[axis], lo[axis]);
         end_b[axis] = _mm512_mask_blend_ps(rising, lo[axis], hi[axis]);
       }
-      const __mmask16 keep = hit & (chords_may_come_within_float(
-                                        start_a, end_a, _mm512_set1_ps(chord_word_reach_m(word_a)), start_b,
-                                        end_b, _mm512_castsi512_ps(word), float_filter_extent_m_) |
-                                    float_filter_off_);
+      const __mmask16 keep =
+          hit & (chords_may_come_within_float(start_a, end_a, _mm512_set1_ps(chord_word_reach_m(word_a)),
+                                              start_b, end_b, _mm512_castsi512_ps(word), filter_extent_m) |
+                 filter_off);
       if (keep == 0) continue;  // nearly always: a branch predicted right
       // The survivors' slots, packed, go to the batch's end, and the range's own values into all 16
       // entries there, of which the first popcount(keep) count. (The compress is done in a register:

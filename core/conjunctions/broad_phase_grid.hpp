@@ -278,10 +278,6 @@ class BroadPhaseGrid {
   static_assert(sizeof(GridBox) == 48);
 
   double cell_size_m_ = 0.0;
-  // The walk's float pre-filter of the chord test (chords_may_come_within_float): the extent of the
-  // pairs' relative lines in this build's cells, and all 16 bits when the cells are too large for it.
-  float float_filter_extent_m_ = 0.0f;
-  std::uint16_t float_filter_off_ = 0;
   // The cell edge to try first in the next build: the candidates never depend on it (only on the boxes),
   // so carrying it from step to step changes no result, and saves a pass when it fits.
   double next_cell_m_ = 0.0;

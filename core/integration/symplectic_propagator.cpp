@@ -61,27 +61,19 @@ StepPlan plan_step(const ForceModel& model, const Composition& c, double t_start
   return plan;
 }
 
-// Ranges [begin, end) of objects to step, handed out one after the other; next() is false when none
-// is left. The kernel's set-up (the step's constants, widened for the vector loop) costs ~2 us, as much
-// as a few dozen objects: it is done once per thread and step, not once per range.
-struct RangeSource {
-  bool (*next)(void* context, long& begin, long& end);
-  void* context;
-};
-
 // Objects per tile of the step kernel below: their states (6 x 8 bytes each) stay in L1 from one kick
 // to the next.
 constexpr long kTileObjects = 256;
 
-// The objects of each range of `ranges`, one step. The start states are written to `start` (when not
-// null) in the same pass. No OpenMP region of its own: callers split the objects between their threads.
-// Tile by tile, each drift-kick of the composition is one vector loop over the tile's objects, whose
-// states go back to their arrays (in L1) between kicks. (One loop over the objects with all kicks
-// unrolled inside kept the states in registers, but its ~50 KB of code ran from L2, and its speed
-// changed by 25 % with where the binary's pages fell: leo-19647 took 87 ns per object-step in the
-// propagator, 60 tiled. Every object sees the same operations in the same order: the same bits.)
+// Objects [begin, end) of `s`, one step. The start states are written to `start` (when not null) in the
+// same pass. No OpenMP region of its own: callers split the objects between their threads. Tile by tile, each
+// drift-kick of the composition is one vector loop over the tile's objects, whose states go back to their
+// arrays (in L1) between kicks. (One loop over the objects with all kicks unrolled inside kept the states in
+// registers, but its ~50 KB of code ran from L2, and its speed changed by 25 % with where the binary's pages
+// fell: leo-19647 took 87 ns per object-step in the propagator, 60 tiled. Every object sees the same
+// operations in the same order: the same bits.)
 template <AtmosphereModel kAtmosphere, bool kKeepStart, int kKicks>
-void composed_ranges(const StepArrays& s, RangeSource ranges, const StepPlan& plan, StateArrays* start) {
+void composed_range(const StepArrays& s, long begin, long end, const StepPlan& plan, StateArrays* start) {
   const ForceInstant* f = plan.f;
   // Local pointers: the loop must not re-read them through `s` (a store could alias it in principle).
   double* __restrict px = s.x;
@@ -98,84 +90,64 @@ void composed_ranges(const StepArrays& s, RangeSource ranges, const StepPlan& pl
   double* __restrict svx = kKeepStart ? start->vx.data() : nullptr;
   double* __restrict svy = kKeepStart ? start->vy.data() : nullptr;
   double* __restrict svz = kKeepStart ? start->vz.data() : nullptr;
-  long begin = 0, end = 0;
-  while (ranges.next(ranges.context, begin, end)) {
-    for (long tile = begin; tile < end; tile += kTileObjects) {
-      const long tile_end = std::min(end, tile + kTileObjects);
-      if constexpr (kKeepStart) {
-#pragma omp simd
-        for (long i = tile; i < tile_end; ++i) {
-          sx[i] = px[i], sy[i] = py[i], sz[i] = pz[i];
-          svx[i] = pvx[i], svy[i] = pvy[i], svz[i] = pvz[i];
-        }
-      }
-#pragma GCC unroll 1
-      for (int k = 0; k < kKicks; ++k) {
-        const ForceInstant& instant = f[k];
-        const double drift = plan.drift[k], kick_length = plan.kick_length[k];
-#pragma omp simd
-        for (long i = tile; i < tile_end; ++i) {
-          double x = px[i], y = py[i], z = pz[i];
-          double vx = pvx[i], vy = pvy[i], vz = pvz[i];
-          x += drift * vx;
-          y += drift * vy;
-          z += drift * vz;
-          kick<kAtmosphere>(instant, kick_length, x, y, z, vx, vy, vz, pcda[i], pam[i]);
-          px[i] = x, py[i] = y, pz[i] = z;
-          pvx[i] = vx, pvy[i] = vy, pvz[i] = vz;
-        }
-      }
-      const double last_drift = plan.drift[kKicks];
+  for (long tile = begin; tile < end; tile += kTileObjects) {
+    const long tile_end = std::min(end, tile + kTileObjects);
+    if constexpr (kKeepStart) {
 #pragma omp simd
       for (long i = tile; i < tile_end; ++i) {
-        px[i] += last_drift * pvx[i];
-        py[i] += last_drift * pvy[i];
-        pz[i] += last_drift * pvz[i];
+        sx[i] = px[i], sy[i] = py[i], sz[i] = pz[i];
+        svx[i] = pvx[i], svy[i] = pvy[i], svz[i] = pvz[i];
       }
+    }
+#pragma GCC unroll 1
+    for (int k = 0; k < kKicks; ++k) {
+      const ForceInstant& instant = f[k];
+      const double drift = plan.drift[k], kick_length = plan.kick_length[k];
+#pragma omp simd
+      for (long i = tile; i < tile_end; ++i) {
+        double x = px[i], y = py[i], z = pz[i];
+        double vx = pvx[i], vy = pvy[i], vz = pvz[i];
+        x += drift * vx;
+        y += drift * vy;
+        z += drift * vz;
+        kick<kAtmosphere>(instant, kick_length, x, y, z, vx, vy, vz, pcda[i], pam[i]);
+        px[i] = x, py[i] = y, pz[i] = z;
+        pvx[i] = vx, pvy[i] = vy, pvz[i] = vz;
+      }
+    }
+    const double last_drift = plan.drift[kKicks];
+#pragma omp simd
+    for (long i = tile; i < tile_end; ++i) {
+      px[i] += last_drift * pvx[i];
+      py[i] += last_drift * pvy[i];
+      pz[i] += last_drift * pvz[i];
     }
   }
 }
 
 template <int kKicks>
-void ranges_with(const StepArrays& s, RangeSource ranges, const StepPlan& plan, StateArrays* start) {
+void range_with(const StepArrays& s, long begin, long end, const StepPlan& plan, StateArrays* start) {
   const bool table = plan.atmosphere == AtmosphereModel::kDensityTable;
   if (start != nullptr) {
     if (table)
-      composed_ranges<AtmosphereModel::kDensityTable, true, kKicks>(s, ranges, plan, start);
+      composed_range<AtmosphereModel::kDensityTable, true, kKicks>(s, begin, end, plan, start);
     else
-      composed_ranges<AtmosphereModel::kExponentialFit, true, kKicks>(s, ranges, plan, start);
+      composed_range<AtmosphereModel::kExponentialFit, true, kKicks>(s, begin, end, plan, start);
   } else {
     if (table)
-      composed_ranges<AtmosphereModel::kDensityTable, false, kKicks>(s, ranges, plan, nullptr);
+      composed_range<AtmosphereModel::kDensityTable, false, kKicks>(s, begin, end, plan, nullptr);
     else
-      composed_ranges<AtmosphereModel::kExponentialFit, false, kKicks>(s, ranges, plan, nullptr);
+      composed_range<AtmosphereModel::kExponentialFit, false, kKicks>(s, begin, end, plan, nullptr);
   }
 }
 
-void step_ranges(const StepArrays& s, RangeSource ranges, const StepPlan& plan, StateArrays* start) {
+void step_range(const StepArrays& s, long begin, long end, const StepPlan& plan, StateArrays* start) {
   if (plan.kicks == 3)
-    ranges_with<3>(s, ranges, plan, start);
+    range_with<3>(s, begin, end, plan, start);
   else if (plan.kicks == 7)
-    ranges_with<7>(s, ranges, plan, start);
+    range_with<7>(s, begin, end, plan, start);
   else
     throw std::logic_error("SymplecticPropagator: no kernel for this composition");
-}
-
-// Objects [begin, end) of `s`, one step.
-void step_range(const StepArrays& s, long begin, long end, const StepPlan& plan, StateArrays* start) {
-  struct Once {
-    long begin, end;
-    bool given = false;
-  } once{begin, end};
-  RangeSource source{[](void* context, long& b, long& e) {
-                       Once& o = *static_cast<Once*>(context);
-                       if (o.given) return false;
-                       o.given = true;
-                       b = o.begin, e = o.end;
-                       return true;
-                     },
-                     &once};
-  step_ranges(s, source, plan, start);
 }
 
 }  // namespace
@@ -248,23 +220,11 @@ void SymplecticPropagator::advance(Population& population, double t_start_s, dou
     const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
     timeline.enter(t);
     ThreadLow& mine = low_by_thread_[t];
-    struct Claim {
-      ChunkBlocks::Claimer claimer;
-      ThreadLow* mine;
-      const Population* population;
-      char* flag;  // null: no low objects to copy aside (no drag)
-      double low_radius2;
-    } claim{blocks_.claimer(t), &mine, &population, substep_low ? low_flag_.data() : nullptr, low_radius2};
-    RangeSource source{[](void* context, long& begin, long& end) {
-                         Claim& c = *static_cast<Claim*>(context);
-                         std::size_t b = 0, e = 0;
-                         if (!c.claimer.next(b, e)) return false;
-                         if (c.flag) c.mine->copy_low(*c.population, c.flag, b, e, c.low_radius2);
-                         begin = static_cast<long>(b), end = static_cast<long>(e);
-                         return true;
-                       },
-                       &claim};
-    step_ranges(arrays, source, plan, start_out);
+    ChunkBlocks::Claimer claimer = blocks_.claimer(t);
+    for (std::size_t begin = 0, end = 0; claimer.next(begin, end);) {
+      if (substep_low) mine.copy_low(population, low_flag_.data(), begin, end, low_radius2);
+      step_range(arrays, static_cast<long>(begin), static_cast<long>(end), plan, start_out);
+    }
     timeline.mark(t, kPropBlocks);
     if (substep_low) {
       // The low objects cluster in some chunks (decaying debris of one launch or breakup sits together
