@@ -1,3 +1,8 @@
+// GCC 12 vectorises the key pass (key_boxes: a floor and clamps per axis) only where floating-point
+// operations may be assumed not to trap. No value changes (only exception flags could, and the core
+// reads none); the same pragma as in symplectic_propagator.cpp.
+#pragma GCC optimize("no-trapping-math")
+
 #include "core/conjunctions/broad_phase_grid.hpp"
 
 #include "core/integration/team_timeline.hpp"
@@ -246,7 +251,9 @@ void histogram_bins_m(const std::uint32_t* hist, std::size_t bins, double origin
 }  // namespace
 
 void BroadPhaseGrid::prepare(std::size_t n, int threads) {
-  box_.resize(n);
+  box_key_.resize(n);
+  box_bucket_.resize(n);
+  box_crosses_.resize(n);
   slot_index_.resize(n);
   slot_chord_.resize(n + kLanes);
   for (auto& axis : box_lo_) axis.resize(n);
@@ -360,26 +367,10 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     // Each region starts at the column edge nearest its border.
     for (std::size_t s = 0; s + 1 < regions; ++s)
       map.first_column[s] = static_cast<std::uint32_t>(axis_cell(borders_m[s] + 0.5 * cell, inverse_cell));
+    key_boxes(inverse_cell, map, begin, end);
     std::uint32_t local_counts[kMaxPartitions] = {};
-    for (std::size_t i = begin; i < end; ++i) {
-      GridBox& box = box_[i];
-      for (int k = 0; k < 3; ++k) {
-        box.lo[k] = box_lo_[k][i];
-        box.hi[k] = box_hi_[k][i];
-      }
-      box.chord = chord_word(box_reach_[i], box_flags_[i] & kChordEndsMask);
-      const std::uint64_t cx = axis_cell(box.lo[0], inverse_cell), cy = axis_cell(box.lo[1], inverse_cell),
-                          cz = axis_cell(box.lo[2], inverse_cell);
-      box.key = (cx << (2 * kAxisBits)) | (cy << kAxisBits) | cz;
-      box.bucket = static_cast<std::uint32_t>(bucket_of(box.key, map));
-      box.index = static_cast<std::uint32_t>(i);
-      // Monotone cells: a box whose upper corner is in its lower corner's cell along an axis lies below
-      // every lower corner of a later cell on that axis.
-      box.crosses = (axis_cell(box.hi[0], inverse_cell) != cx ? 1u : 0u) |
-                    (axis_cell(box.hi[1], inverse_cell) != cy ? 2u : 0u) |
-                    (axis_cell(box.hi[2], inverse_cell) != cz ? 4u : 0u);
-      if (!oversized_flag_[i]) ++local_counts[box.bucket >> fine_bits_];
-    }
+    for (std::size_t i = begin; i < end; ++i)
+      if (!oversized_flag_[i]) ++local_counts[box_bucket_[i] >> fine_bits_];
     std::copy(local_counts, local_counts + partitions, counts);
   };
 
@@ -530,8 +521,20 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       group[p] = cursor[p] = at;
       at += counts[p];
     }
-    for (std::size_t i = begin; i < end; ++i)
-      if (!oversized_flag_[i]) scratch_[cursor[box_[i].bucket >> fine_bits_]++] = box_[i];
+    // Whole records, built here from the passes' arrays (read in sequence).
+    for (std::size_t i = begin; i < end; ++i) {
+      if (oversized_flag_[i]) continue;
+      GridBox& box = scratch_[cursor[box_bucket_[i] >> fine_bits_]++];
+      for (int k = 0; k < 3; ++k) {
+        box.lo[k] = box_lo_[k][i];
+        box.hi[k] = box_hi_[k][i];
+      }
+      box.crosses = box_crosses_[i];
+      box.index = static_cast<std::uint32_t>(i);
+      box.key = box_key_[i];
+      box.chord = chord_word(box_reach_[i], box_flags_[i] & kChordEndsMask);
+      box.bucket = box_bucket_[i];
+    }
   }
   timeline.mark(t, kDetScatter);
 #pragma omp barrier
@@ -597,6 +600,47 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   timeline.mark(t, kDetWaitSort);
 }
 
+void BroadPhaseGrid::key_boxes(double inverse_cell_m, const RegionMap& regions, std::size_t begin,
+                               std::size_t end) {
+  // Local restrict copies of every pointer and value, so the loop vectorises (see grow_boxes).
+  const float* __restrict lo_x = box_lo_[0].data();
+  const float* __restrict lo_y = box_lo_[1].data();
+  const float* __restrict lo_z = box_lo_[2].data();
+  const float* __restrict hi_x = box_hi_[0].data();
+  const float* __restrict hi_y = box_hi_[1].data();
+  const float* __restrict hi_z = box_hi_[2].data();
+  std::uint64_t* __restrict keys = box_key_.data();
+  std::uint32_t* __restrict buckets = box_bucket_.data();
+  std::uint8_t* __restrict crosses = box_crosses_.data();
+  // RegionMap::base with all four halvings of kMaxRegions = 16 (the unused borders are the largest
+  // column, never reached), so every lane runs the same code.
+  static_assert(kMaxRegions == 16);
+  std::uint32_t first_column[kMaxRegions - 1];
+  std::copy(std::begin(regions.first_column), std::end(regions.first_column), first_column);
+  const int region_bits = regions.region_bits;
+  const std::uint64_t region_mask = region_mask_;
+#pragma omp simd
+  for (std::size_t i = begin; i < end; ++i) {
+    const std::uint64_t cx = axis_cell(lo_x[i], inverse_cell_m), cy = axis_cell(lo_y[i], inverse_cell_m),
+                        cz = axis_cell(lo_z[i], inverse_cell_m);
+    const std::uint64_t key = (cx << (2 * kAxisBits)) | (cy << kAxisBits) | cz;
+    keys[i] = key;
+    // Monotone cells: a box whose upper corner is in its lower corner's cell along an axis lies below
+    // every lower corner of a later cell on that axis.
+    crosses[i] = static_cast<std::uint8_t>((axis_cell(hi_x[i], inverse_cell_m) != cx ? 1u : 0u) |
+                                           (axis_cell(hi_y[i], inverse_cell_m) != cy ? 2u : 0u) |
+                                           (axis_cell(hi_z[i], inverse_cell_m) != cz ? 4u : 0u));
+    const std::uint64_t column = column_of(key);
+    std::uint64_t region = column >= first_column[7] ? 8 : 0;
+    region += column >= first_column[region + 3] ? 4 : 0;
+    region += column >= first_column[region + 1] ? 2 : 0;
+    region += column >= first_column[region] ? 1 : 0;
+    const std::uint64_t row = key >> kRowShift;
+    const std::uint64_t in_region = (((row * 0x9E3779B97F4A7C15ull) >> 20) + (key & kZMask)) & region_mask;
+    buckets[i] = static_cast<std::uint32_t>((region << region_bits) | in_region);
+  }
+}
+
 std::pair<std::size_t, std::size_t> BroadPhaseGrid::sorted_slots(std::size_t t, std::size_t threads) const {
   const std::size_t first = partitions_ * t / threads, last = partitions_ * (t + 1) / threads;
   return {first < partitions_ ? partition_start_[first] : slots_in_grid_,
@@ -605,7 +649,7 @@ std::pair<std::size_t, std::size_t> BroadPhaseGrid::sorted_slots(std::size_t t, 
 
 void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
                                              std::vector<CandidatePair>& out) const {
-  const std::size_t n = box_.size();
+  const std::size_t n = box_key_.size();
   const float *lo_x = box_lo_[0].data(), *lo_y = box_lo_[1].data(), *lo_z = box_lo_[2].data();
   const float *hi_x = box_hi_[0].data(), *hi_y = box_hi_[1].data(), *hi_z = box_hi_[2].data();
   // The overlap tests a block at a time in vector lanes (a far-out object, common in real catalogs,

@@ -220,6 +220,9 @@ class BroadPhaseGrid {
   // cells of a row along z fall in consecutive buckets of one region (and, sorted by bucket, in
   // consecutive slots): the three z neighbours of a cell are one contiguous range (wrapping inside the
   // region), usually on one cache line of the bucket table.
+  // Cell keys, buckets and crossing bits (GridBox) of objects [begin, end) from their float boxes, for
+  // cells of edge 1 / inverse_cell_m: a loop over arrays that vectorises.
+  void key_boxes(double inverse_cell_m, const RegionMap& regions, std::size_t begin, std::size_t end);
   std::size_t bucket_of(std::uint64_t cell_key, const RegionMap& regions) const {
     return regions.base(column_of(cell_key)) | bucket_in_region(cell_key);
   }
@@ -297,11 +300,14 @@ class BroadPhaseGrid {
   std::vector<std::uint32_t> thread_hist_;  // per thread: its chunk's histogram
   std::size_t prepared_threads_ = 0;
   std::size_t slots_in_grid_ = 0;
-  std::vector<GridBox> box_;  // per object (population index)
-  // The box pass's output per object (population index), arrays so that the pass vectorises: the
-  // grown box rounded to floats, the chord filter's reach and direction bits, the oversized flag.
+  // The box and key passes' output per object (population index), arrays so that the passes vectorise:
+  // the grown box rounded to floats, the chord filter's reach and direction bits, the oversized flag;
+  // the cell key, bucket and crossing bits (the scatter assembles them into GridBox records).
   std::vector<float> box_lo_[3], box_hi_[3], box_reach_;
   std::vector<std::uint32_t> box_flags_;
+  std::vector<std::uint64_t> box_key_;
+  std::vector<std::uint32_t> box_bucket_;
+  std::vector<std::uint8_t> box_crosses_;
   // Per slot (bucket order): the boxes axis by axis (lower x, y, z, upper x, y, z), each padded by
   // kLanes entries so the walk's last group of lanes reads inside the array; keys; crossing bits;
   // population indices.
