@@ -2,6 +2,8 @@
 // one step that conjunction detection reads.
 #pragma once
 
+#include <vector>
+
 #include "core/population/population.hpp"
 
 namespace kessler {
@@ -16,6 +18,16 @@ struct StepEnds {
   const StateArrays* end = nullptr;
 };
 
+// What the loop asks of a step besides the new states.
+struct StepRequest {
+  // The states at t_start_s are copied here (the start of the step's StepEnds), when not null.
+  StateArrays* start_out = nullptr;
+  // Burn-up: when not null, resized to the population and set per object to burns_up(its end position,
+  // burn_up_radius2) (burn_up.hpp).
+  std::vector<char>* burn_up_flags = nullptr;
+  double burn_up_radius2 = 0.0;
+};
+
 class Propagator {
  public:
   virtual ~Propagator() = default;
@@ -23,13 +35,13 @@ class Propagator {
   // in parallel over objects. Each object's new state depends on that object alone, so results are
   // bitwise identical for any thread count.
   virtual void step(Population& population, double t_start_s, double dt_s) = 0;
-  // The same, and the states at t_start_s copied into start_out (the start of the step's StepEnds).
-  // Propagators that read every state anyway override this to copy in the same parallel pass: a
-  // separate copy is a serial pass over 48 bytes per object per step.
-  virtual void step_keeping_start(Population& population, double t_start_s, double dt_s,
-                                  StateArrays& start_out) {
-    start_out = population.state;
-    step(population, t_start_s, dt_s);
+  // The same, and what `request` asks for. This default copies before the step and flags after it, each
+  // in a pass of its own; propagators that read and write every state anyway override it to do both in
+  // their own parallel pass.
+  virtual void step_with(Population& population, double t_start_s, double dt_s, const StepRequest& request);
+  // step_with for the start states alone.
+  void step_keeping_start(Population& population, double t_start_s, double dt_s, StateArrays& start_out) {
+    step_with(population, t_start_s, dt_s, StepRequest{&start_out});
   }
 };
 

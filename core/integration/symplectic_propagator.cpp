@@ -6,6 +6,7 @@
 
 #include "core/integration/symplectic_propagator.hpp"
 
+#include "core/integration/burn_up.hpp"
 #include "core/integration/team_timeline.hpp"
 #include "core/integration/thread_chunks.hpp"
 #include "core/physics/constants.hpp"
@@ -65,15 +66,16 @@ StepPlan plan_step(const ForceModel& model, const Composition& c, double t_start
 // to the next.
 constexpr long kTileObjects = 256;
 
-// Objects [begin, end) of `s`, one step. The start states are written to `start` (when not null) in the
-// same pass. No OpenMP region of its own: callers split the objects between their threads. Tile by tile, each
-// drift-kick of the composition is one vector loop over the tile's objects, whose states go back to their
-// arrays (in L1) between kicks. (One loop over the objects with all kicks unrolled inside kept the states in
-// registers, but its ~50 KB of code ran from L2, and its speed changed by 25 % with where the binary's pages
-// fell: leo-19647 took 87 ns per object-step in the propagator, 60 tiled. Every object sees the same
-// operations in the same order: the same bits.)
+// Objects [begin, end) of `s`, one step. The start states are written to `start` and the burn-up flags
+// set (when not null) in the same pass. No OpenMP region of its own: callers split the objects between their
+// threads. Tile by tile, each drift-kick of the composition is one vector loop over the tile's objects, whose
+// states go back to their arrays (in L1) between kicks. (One loop over the objects with all kicks unrolled
+// inside kept the states in registers, but its ~50 KB of code ran from L2, and its speed changed by 25 % with
+// where the binary's pages fell: leo-19647 took 87 ns per object-step in the propagator, 60 tiled. Every
+// object sees the same operations in the same order: the same bits.)
 template <AtmosphereModel kAtmosphere, bool kKeepStart, int kKicks>
-void composed_range(const StepArrays& s, long begin, long end, const StepPlan& plan, StateArrays* start) {
+void composed_range(const StepArrays& s, long begin, long end, const StepPlan& plan, StateArrays* start,
+                    char* __restrict burn_up_flags, double burn_up_radius2) {
   const ForceInstant* f = plan.f;
   // Local pointers: the loop must not re-read them through `s` (a store could alias it in principle).
   double* __restrict px = s.x;
@@ -116,36 +118,49 @@ void composed_range(const StepArrays& s, long begin, long end, const StepPlan& p
       }
     }
     const double last_drift = plan.drift[kKicks];
+    if (burn_up_flags == nullptr) {
 #pragma omp simd
-    for (long i = tile; i < tile_end; ++i) {
-      px[i] += last_drift * pvx[i];
-      py[i] += last_drift * pvy[i];
-      pz[i] += last_drift * pvz[i];
+      for (long i = tile; i < tile_end; ++i) {
+        px[i] += last_drift * pvx[i];
+        py[i] += last_drift * pvy[i];
+        pz[i] += last_drift * pvz[i];
+      }
+    } else {
+      // The burn-up test on the end position while it is in registers.
+#pragma omp simd
+      for (long i = tile; i < tile_end; ++i) {
+        const double x = px[i] + last_drift * pvx[i], y = py[i] + last_drift * pvy[i],
+                     z = pz[i] + last_drift * pvz[i];
+        px[i] = x, py[i] = y, pz[i] = z;
+        burn_up_flags[i] = burns_up(x, y, z, burn_up_radius2);
+      }
     }
   }
 }
 
 template <int kKicks>
-void range_with(const StepArrays& s, long begin, long end, const StepPlan& plan, StateArrays* start) {
+void range_with(const StepArrays& s, long begin, long end, const StepPlan& plan, StateArrays* start,
+                char* burn_up_flags, double burn_up_radius2) {
   const bool table = plan.atmosphere == AtmosphereModel::kDensityTable;
+  constexpr auto kTable = AtmosphereModel::kDensityTable, kFit = AtmosphereModel::kExponentialFit;
   if (start != nullptr) {
-    if (table)
-      composed_range<AtmosphereModel::kDensityTable, true, kKicks>(s, begin, end, plan, start);
-    else
-      composed_range<AtmosphereModel::kExponentialFit, true, kKicks>(s, begin, end, plan, start);
+    table ? composed_range<kTable, true, kKicks>(s, begin, end, plan, start, burn_up_flags, burn_up_radius2)
+          : composed_range<kFit, true, kKicks>(s, begin, end, plan, start, burn_up_flags, burn_up_radius2);
   } else {
-    if (table)
-      composed_range<AtmosphereModel::kDensityTable, false, kKicks>(s, begin, end, plan, nullptr);
-    else
-      composed_range<AtmosphereModel::kExponentialFit, false, kKicks>(s, begin, end, plan, nullptr);
+    table
+        ? composed_range<kTable, false, kKicks>(s, begin, end, plan, nullptr, burn_up_flags, burn_up_radius2)
+        : composed_range<kFit, false, kKicks>(s, begin, end, plan, nullptr, burn_up_flags, burn_up_radius2);
   }
 }
 
-void step_range(const StepArrays& s, long begin, long end, const StepPlan& plan, StateArrays* start) {
+// Objects [begin, end) of `s`, one step; their start states copied to `start` and their burn-up flags
+// set (burns_up with burn_up_radius2) where those are not null.
+void step_range(const StepArrays& s, long begin, long end, const StepPlan& plan, StateArrays* start,
+                char* burn_up_flags = nullptr, double burn_up_radius2 = 0.0) {
   if (plan.kicks == 3)
-    range_with<3>(s, begin, end, plan, start);
+    range_with<3>(s, begin, end, plan, start, burn_up_flags, burn_up_radius2);
   else if (plan.kicks == 7)
-    range_with<7>(s, begin, end, plan, start);
+    range_with<7>(s, begin, end, plan, start, burn_up_flags, burn_up_radius2);
   else
     throw std::logic_error("SymplecticPropagator: no kernel for this composition");
 }
@@ -157,16 +172,12 @@ SymplecticPropagator::SymplecticPropagator(const ForceModelSettings& forces, con
     : model_(forces, epoch), integrator_(integrator), composition_(composition_of(integrator)) {}
 
 void SymplecticPropagator::step(Population& population, double t_start_s, double dt_s) {
-  advance(population, t_start_s, dt_s, nullptr);
+  step_with(population, t_start_s, dt_s, StepRequest{});
 }
 
-void SymplecticPropagator::step_keeping_start(Population& population, double t_start_s, double dt_s,
-                                              StateArrays& start_out) {
-  advance(population, t_start_s, dt_s, &start_out);
-}
-
-void SymplecticPropagator::advance(Population& population, double t_start_s, double dt_s,
-                                   StateArrays* start_out) {
+void SymplecticPropagator::step_with(Population& population, double t_start_s, double dt_s,
+                                     const StepRequest& request) {
+  StateArrays* const start_out = request.start_out;
   if (!std::isfinite(dt_s) || dt_s <= 0.0)
     throw std::invalid_argument("SymplecticPropagator: dt_s must be finite and positive, got " +
                                 std::to_string(dt_s));
@@ -178,6 +189,13 @@ void SymplecticPropagator::advance(Population& population, double t_start_s, dou
       population.srp_area_to_mass_m2_kg.size() != n)
     throw std::invalid_argument("SymplecticPropagator: population arrays differ in length");
   if (start_out != nullptr) start_out->resize(n);
+  // The burn-up flags in the same pass: each block's, and each low object's again after its sub-steps.
+  char* burn_up_flags = nullptr;
+  if (request.burn_up_flags != nullptr) {
+    request.burn_up_flags->resize(n);
+    burn_up_flags = request.burn_up_flags->data();
+  }
+  const double burn_up_radius2 = request.burn_up_radius2;
   if (n == 0) return;
   StepArrays arrays{st.x.data(),
                     st.y.data(),
@@ -223,7 +241,8 @@ void SymplecticPropagator::advance(Population& population, double t_start_s, dou
     ChunkBlocks::Claimer claimer = blocks_.claimer(t);
     for (std::size_t begin = 0, end = 0; claimer.next(begin, end);) {
       if (substep_low) mine.copy_low(population, low_flag_.data(), begin, end, low_radius2);
-      step_range(arrays, static_cast<long>(begin), static_cast<long>(end), plan, start_out);
+      step_range(arrays, static_cast<long>(begin), static_cast<long>(end), plan, start_out, burn_up_flags,
+                 burn_up_radius2);
     }
     timeline.mark(t, kPropBlocks);
     if (substep_low) {
@@ -249,6 +268,8 @@ void SymplecticPropagator::advance(Population& population, double t_start_s, dou
           const std::size_t i = list.index[k];
           st.x[i] = low.x[k], st.y[i] = low.y[k], st.z[i] = low.z[k];
           st.vx[i] = low.vx[k], st.vy[i] = low.vy[k], st.vz[i] = low.vz[k];
+          if (burn_up_flags != nullptr)
+            burn_up_flags[i] = burns_up(low.x[k], low.y[k], low.z[k], burn_up_radius2);
         }
       }
       timeline.mark(t, kPropLow);

@@ -43,8 +43,8 @@ class SymplecticPropagator final : public Propagator {
                        Integrator integrator = Integrator::kBlanesMoan4);
 
   void step(Population& population, double t_start_s, double dt_s) override;
-  void step_keeping_start(Population& population, double t_start_s, double dt_s,
-                          StateArrays& start_out) override;
+  // The start states and the burn-up flags in the step's own parallel pass.
+  void step_with(Population& population, double t_start_s, double dt_s, const StepRequest& request) override;
 
   // OpenMP threads for step(); 0 (default) uses OpenMP's default.
   void set_threads(int threads) { threads_ = threads; }
@@ -76,8 +76,6 @@ class SymplecticPropagator final : public Propagator {
   struct StepArrays;
 
  private:
-  void advance(Population& population, double t_start_s, double dt_s, StateArrays* start_out);
-
   ForceModel model_;
   Integrator integrator_;
   Composition composition_;

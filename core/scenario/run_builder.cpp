@@ -143,7 +143,6 @@ std::optional<FieldError> make_parts(const v1::Scenario& scenario, const Simulat
     propagator->set_threads(config.threads);
     parts.propagator = std::move(propagator);
   }
-  parts.find_burn_ups = &find_burn_ups;
   if (config.conjunctions_enabled) {
     if (auto problem = ConjunctionDetector::validate(config.conjunctions, config.dt_s)) {
       std::string path = "conjunctions";

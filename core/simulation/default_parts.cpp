@@ -1,6 +1,5 @@
 // The project's own parts, and the contract constructors that use them. Kept apart from the loop so
 // that a program handing in its own parts (the tests) does not link the defaults.
-#include "core/integration/burn_up.hpp"
 #include "core/simulation/simulation.hpp"
 
 namespace kessler {
@@ -9,7 +8,6 @@ SimulationParts default_parts(const SimulationConfig& config, std::unique_ptr<Pr
   SimulationParts parts;
   parts.propagator = std::move(propagator);
   if (config.conjunctions_enabled) parts.scanner = make_detector_scanner(config.conjunctions);
-  parts.find_burn_ups = &find_burn_ups;
   return parts;
 }
 

@@ -260,16 +260,23 @@ RunSummary Simulation::run(EventSink& sink, RunControl& control) {
       const double t1_s = static_cast<double>(s.step + 1) * cfg.dt_s;
       Population& pop = s.population;
 
-      // Integrate.
+      // Integrate; the propagator flags the burn-ups in the same pass unless a finder is given.
       auto t = Clock::now();
-      s.parts.propagator->step_keeping_start(pop, t0_s, cfg.dt_s, start_state);
+      const bool flag_in_step = s.parts.burn_up && !s.parts.find_burn_ups;
+      StepRequest request{&start_state};
+      if (flag_in_step) {
+        request.burn_up_flags = &flags;
+        request.burn_up_radius2 = burn_up_radius2(cfg.burn_up_altitude_m);
+      }
+      s.parts.propagator->step_with(pop, t0_s, cfg.dt_s, request);
       timers.integrator_s += seconds_since(t);
 
       // Burn-up: found now, removed after detection (StepEnds stay index-aligned for the scan).
       t = Clock::now();
       std::vector<BurnUp> burned;
-      if (s.parts.find_burn_ups) {
-        burned = s.parts.find_burn_ups(pop, cfg.burn_up_altitude_m, t1_s, flags);
+      if (s.parts.burn_up) {
+        burned = flag_in_step ? flagged_burn_ups(pop, t1_s, flags)
+                              : s.parts.find_burn_ups(pop, cfg.burn_up_altitude_m, t1_s, flags);
         std::sort(burned.begin(), burned.end(), [](const BurnUp& a, const BurnUp& b) { return a.id < b.id; });
       }
       timers.burn_up_s += seconds_since(t);

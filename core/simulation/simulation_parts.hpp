@@ -33,14 +33,18 @@ using BurnUpFinder = std::function<std::vector<BurnUp>(const Population&, double
 struct SimulationParts {
   std::unique_ptr<Propagator> propagator;
   std::unique_ptr<EncounterScanner> scanner;  // null: no conjunction tracking
-  BurnUpFinder find_burn_ups;                 // null: no burn-up
+  // Burn-up. The project's rule (burns_up) is applied by the propagator in its own pass over the states
+  // (StepRequest); a finder, where given, decides instead, after the step (tests hand in a brute-force
+  // one). burn_up false: no burn-up.
+  bool burn_up = true;
+  BurnUpFinder find_burn_ups;
 };
 
 // ConjunctionDetector behind the scanner interface.
 std::unique_ptr<EncounterScanner> make_detector_scanner(const ConjunctionSettings& settings);
 
-// The project's parts for `config`: `propagator`, ConjunctionDetector (when config.conjunctions_enabled)
-// and find_burn_ups.
+// The project's parts for `config`: `propagator` (which applies the burn-up rule) and ConjunctionDetector
+// (when config.conjunctions_enabled).
 SimulationParts default_parts(const SimulationConfig& config, std::unique_ptr<Propagator> propagator);
 
 }  // namespace kessler

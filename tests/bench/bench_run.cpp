@@ -96,10 +96,9 @@ class CpuTimedPropagator final : public Propagator {
     inner_->step(population, t_start_s, dt_s);
     cpu_s += process_cpu_s() - start;
   }
-  void step_keeping_start(Population& population, double t_start_s, double dt_s,
-                          StateArrays& start_out) override {
+  void step_with(Population& population, double t_start_s, double dt_s, const StepRequest& request) override {
     const double start = process_cpu_s();
-    inner_->step_keeping_start(population, t_start_s, dt_s, start_out);
+    inner_->step_with(population, t_start_s, dt_s, request);
     cpu_s += process_cpu_s() - start;
   }
   double cpu_s = 0.0;

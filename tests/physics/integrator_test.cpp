@@ -2,10 +2,12 @@
 // convergence, long-term energy and angular momentum, and the J2 secular nodal regression.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 
+#include "core/integration/burn_up.hpp"
 #include "core/integration/symplectic_propagator.hpp"
 #include "core/physics/drag.hpp"
 #include "core/physics/gravity.hpp"
@@ -238,6 +240,60 @@ TEST(Yoshida, StepKeepingStartCopiesTheStartAndStepsAsUsual) {
     EXPECT_EQ(a.state.vy, b.state.vy);
   }
   EXPECT_EQ(keeping.last_substepped().size(), 1u);
+}
+
+// The burn-up flags set in the step's own pass are burns_up on the final end states: those of the
+// low objects after their sub-steps too. A radius a hair outside and at a low object's end
+// position (the next double above its squared radius, and that radius) tells its final state from the
+// main pass's (a fraction of a millimetre apart); the other objects' flags match a
+// scan of the end states, with 1 and 2 threads.
+TEST(Yoshida, BurnUpFlagsInTheStepAreThoseOfTheEndStates) {
+  Population start;
+  for (int k = 0; k < 3000; ++k) {
+    Eigen::Vector3d r, v;
+    // Every 100th object on an orbit whose perigee (120-140 km) lies below the burn-up altitude, some
+    // of them descending through it in these steps; object 7 low (200 km at perigee) and sub-stepped.
+    const bool decaying = k % 100 == 3;
+    const double perigee_m = k == 7 ? 200e3 : decaying ? 120e3 + 200.0 * (k / 100) : 450e3 + 300.0 * k;
+    const double e = decaying ? 0.02 : 0.0005 * (k % 7);
+    const double anomaly = decaying ? -0.5 + 0.017 * (k / 100) : 0.003 * k;
+    testing::state_from_elements((6378137.0 + perigee_m) / (1.0 - e), e, 0.3 + 0.001 * k, 0.01 * k, 0.2,
+                                 anomaly, r, v);
+    Population one = one_object(r, v);
+    one.id[0] = 1 + k;
+    one.drag_area_to_mass_m2_kg[0] = 0.02;
+    start.add(one.record(0));
+  }
+  const double radius2_150km = burn_up_radius2(150e3);
+  for (int threads : {1, 2}) {
+    SymplecticPropagator plain(ForceModelSettings{}, kEpoch), flagging(ForceModelSettings{}, kEpoch);
+    plain.set_threads(threads);
+    flagging.set_threads(threads);
+    Population a = start, b = start;
+    std::vector<char> in_step, scanned;
+    StateArrays start_states;
+    std::size_t burning = 0;
+    for (int s = 0; s < 30; ++s) {
+      plain.step(a, s * 10.0, 10.0);
+      flagging.step_with(b, s * 10.0, 10.0, StepRequest{&start_states, &in_step, radius2_150km});
+      ASSERT_EQ(a.state.x, b.state.x);
+      flag_burn_ups(a.state, radius2_150km, scanned);
+      ASSERT_EQ(in_step, scanned) << "step " << s;
+      for (char f : in_step) burning += f != 0;
+    }
+    EXPECT_GT(burning, 10u);
+    // Object 7, sub-stepped in the first step: radii a hair outside and at its end position.
+    Population c = start, d = start;
+    plain.step(c, 0.0, 10.0);
+    const double r2 = c.state.x[7] * c.state.x[7] + c.state.y[7] * c.state.y[7] + c.state.z[7] * c.state.z[7];
+    flagging.step_with(d, 0.0, 10.0, StepRequest{nullptr, &in_step, std::nextafter(r2, 2.0 * r2)});
+    const auto& low = flagging.last_substepped();
+    ASSERT_NE(std::find(low.begin(), low.end(), 7u), low.end());
+    EXPECT_EQ(in_step[7], 1);
+    d = start;
+    flagging.step_with(d, 0.0, 10.0, StepRequest{nullptr, &in_step, r2});
+    EXPECT_EQ(in_step[7], 0);
+  }
 }
 
 // Objects below 300 km take four sub-steps. The choice and the result depend on the object alone: the
