@@ -521,10 +521,12 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       group[p] = cursor[p] = at;
       at += counts[p];
     }
-    // Whole records, built here from the passes' arrays (read in sequence).
+    // Whole records, built in registers from the passes' arrays (read in sequence) and stored in one
+    // go: stored field by field, into lines that the other cores read in the last sort, 2 threads took
+    // twice as long here (the store queue fills while those lines are fetched back).
     for (std::size_t i = begin; i < end; ++i) {
       if (oversized_flag_[i]) continue;
-      GridBox& box = scratch_[cursor[box_bucket_[i] >> fine_bits_]++];
+      GridBox box;
       for (int k = 0; k < 3; ++k) {
         box.lo[k] = box_lo_[k][i];
         box.hi[k] = box_hi_[k][i];
@@ -534,6 +536,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       box.key = box_key_[i];
       box.chord = chord_word(box_reach_[i], box_flags_[i] & kChordEndsMask);
       box.bucket = box_bucket_[i];
+      scratch_[cursor[box.bucket >> fine_bits_]++] = box;
     }
   }
   timeline.mark(t, kDetScatter);
