@@ -62,6 +62,13 @@ StepPlan plan_step(const ForceModel& model, const Composition& c, double t_start
   return plan;
 }
 
+// Low objects sub-stepped at once, by the thread that stepped their blocks, as soon as its blocks have
+// given this many (and the rest after its last block): enough to fill the vector lanes, while the
+// claiming of blocks still shares the work out (low objects cluster in the catalog: decaying debris of one
+// launch or breakup sits together). Sharing them out evenly after a barrier cost as much, in lines
+// written back to other cores.
+constexpr std::size_t kLowBatch = 16;
+
 // Objects per tile of the step kernel below: their states (6 x 8 bytes each) stay in L1 from one kick
 // to the next.
 constexpr long kTileObjects = 256;
@@ -231,49 +238,39 @@ void SymplecticPropagator::step_with(Population& population, double t_start_s, d
   timeline.region_start(static_cast<std::size_t>(threads));
 #pragma omp parallel num_threads(threads)
   {
-    // One region: blocks of each thread's own chunk first (thread_chunks.hpp), so most objects are
-    // propagated on the core that reads them next, then blocks left in other chunks; before a block is
-    // stepped, its low objects are copied aside. Then the low objects' sub-steps are shared out.
-    const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());
+    // One region, no barrier: blocks of each thread's own chunk first (thread_chunks.hpp), so most
+    // objects are propagated on the core that reads them next, then blocks left in other chunks; before
+    // a block is stepped, its low objects are copied aside, and sub-stepped in batches (kLowBatch).
     const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
     timeline.enter(t);
     ThreadLow& mine = low_by_thread_[t];
     ChunkBlocks::Claimer claimer = blocks_.claimer(t);
+    // The low objects' sub-steps, on their copies, and the copies written back: objects [lo, hi) of
+    // this thread's list.
+    auto substep = [&](std::size_t lo, std::size_t hi) {
+      const StepArrays low = mine.arrays();
+      for (int sub = 0; sub < kLowAltitudeSubsteps; ++sub)
+        step_range(low, static_cast<long>(lo), static_cast<long>(hi), sub_plans[sub], nullptr);
+      for (std::size_t k = lo; k < hi; ++k) {
+        const std::size_t i = mine.index[k];
+        st.x[i] = low.x[k], st.y[i] = low.y[k], st.z[i] = low.z[k];
+        st.vx[i] = low.vx[k], st.vy[i] = low.vy[k], st.vz[i] = low.vz[k];
+        if (burn_up_flags != nullptr)
+          burn_up_flags[i] = burns_up(low.x[k], low.y[k], low.z[k], burn_up_radius2);
+      }
+    };
+    std::size_t substepped = 0;  // of this thread's list
     for (std::size_t begin = 0, end = 0; claimer.next(begin, end);) {
       if (substep_low) mine.copy_low(population, low_flag_.data(), begin, end, low_radius2);
       step_range(arrays, static_cast<long>(begin), static_cast<long>(end), plan, start_out, burn_up_flags,
                  burn_up_radius2);
-    }
-    timeline.mark(t, kPropBlocks);
-    if (substep_low) {
-      // The low objects cluster in some chunks (decaying debris of one launch or breakup sits together
-      // in the catalog), so their sub-steps are shared out evenly once every list is complete: thread
-      // t takes objects [total t / team, total (t + 1) / team) of all lists in thread order.
-#pragma omp barrier
-      timeline.mark(t, kPropWait);
-      std::size_t total = 0;
-      for (std::size_t u = 0; u < team; ++u) total += low_by_thread_[u].index.size();
-      const std::size_t from = total * t / team, to = total * (t + 1) / team;
-      std::size_t offset = 0;
-      for (std::size_t u = 0; u < team && offset < to; ++u) {
-        ThreadLow& list = low_by_thread_[u];
-        const std::size_t m = list.index.size();
-        const std::size_t lo = std::max(from, offset) - offset, hi = std::min(to, offset + m) - offset;
-        offset += m;
-        if (lo >= hi) continue;
-        const StepArrays low = list.arrays();
-        for (int sub = 0; sub < kLowAltitudeSubsteps; ++sub)
-          step_range(low, static_cast<long>(lo), static_cast<long>(hi), sub_plans[sub], nullptr);
-        for (std::size_t k = lo; k < hi; ++k) {
-          const std::size_t i = list.index[k];
-          st.x[i] = low.x[k], st.y[i] = low.y[k], st.z[i] = low.z[k];
-          st.vx[i] = low.vx[k], st.vy[i] = low.vy[k], st.vz[i] = low.vz[k];
-          if (burn_up_flags != nullptr)
-            burn_up_flags[i] = burns_up(low.x[k], low.y[k], low.z[k], burn_up_radius2);
-        }
+      if (mine.index.size() - substepped >= kLowBatch) {
+        substep(substepped, mine.index.size());
+        substepped = mine.index.size();
       }
-      timeline.mark(t, kPropLow);
     }
+    if (mine.index.size() > substepped) substep(substepped, mine.index.size());
+    timeline.mark(t, kPropBlocks);
   }
   timeline.region_end();
   low_.clear();

@@ -9,7 +9,7 @@
 // sub-step. The loop is OpenMP-parallel and SIMD-vectorised over objects; each object's arithmetic
 // depends on that object alone and uses only IEEE-exact operations (no FMA contraction, no libm), so
 // the result is bitwise identical for any thread count and any vector/scalar split. Objects that start a
-// step below 300 km take four sub-steps instead (kLowAltitude_m below), on copies shared out after the pass.
+// step below 300 km take four sub-steps instead (kLowAltitude_m below), on copies, in batches.
 //
 // Drag depends on velocity. Each kick of length h (= d_i dt) is therefore itself a symmetric splitting
 // at its fixed position (force_model.hpp, kick): drag's exact flow over h/2, the velocity-independent

@@ -82,7 +82,7 @@ class TeamTimeline {
 };
 
 // The timelines of the step's two parallel regions (process-wide: for benchmarks, one run at a time).
-enum PropagatorSegment { kPropFork, kPropBlocks, kPropWait, kPropLow, kPropJoin };
+enum PropagatorSegment { kPropFork, kPropBlocks, kPropJoin };
 enum DetectorSegment {
   kDetFork,
   kDetGrow,
@@ -99,7 +99,7 @@ enum DetectorSegment {
   kDetJoin
 };
 inline TeamTimeline& propagator_timeline() {
-  static TeamTimeline timeline({"fork", "blocks", "wait", "low", "join"});
+  static TeamTimeline timeline({"fork", "blocks", "join"});
   return timeline;
 }
 inline TeamTimeline& detector_timeline() {
