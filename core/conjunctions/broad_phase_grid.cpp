@@ -349,7 +349,6 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   // same borders and cell columns itself, so no thread waits for them.
   RegionMap map;
   map.region_bits = region_bits_;
-  for (std::size_t power = 1; power < regions; power *= 2) map.search_top = power;
   std::fill(std::begin(map.first_column), std::end(map.first_column), ~std::uint32_t{0});
   double borders_m[kMaxRegions - 1];
   double bin_origin = kDefaultBinOrigin_m, bin_width = kDefaultBinWidth_m;  // this build's histogram's
@@ -643,13 +642,7 @@ void BroadPhaseGrid::key_boxes(double inverse_cell_m, const RegionMap& regions, 
   std::uint64_t* __restrict keys = box_key_.data();
   std::uint32_t* __restrict buckets = box_bucket_.data();
   std::uint8_t* __restrict crosses = box_crosses_.data();
-  // RegionMap::base with all four halvings of kMaxRegions = 16 (the unused borders are the largest
-  // column, never reached), so every lane runs the same code.
-  static_assert(kMaxRegions == 16);
-  std::uint32_t first_column[kMaxRegions - 1];
-  std::copy(std::begin(regions.first_column), std::end(regions.first_column), first_column);
-  const int region_bits = regions.region_bits;
-  const std::uint64_t region_mask = region_mask_;
+  const RegionMap map = regions;  // a local copy: the loop must not re-read it after each store
 #pragma omp simd
   for (std::size_t i = begin; i < end; ++i) {
     const std::uint64_t cx = axis_cell(lo_x[i], inverse_cell_m), cy = axis_cell(lo_y[i], inverse_cell_m),
@@ -661,14 +654,7 @@ void BroadPhaseGrid::key_boxes(double inverse_cell_m, const RegionMap& regions, 
     crosses[i] = static_cast<std::uint8_t>((axis_cell(hi_x[i], inverse_cell_m) != cx ? 1u : 0u) |
                                            (axis_cell(hi_y[i], inverse_cell_m) != cy ? 2u : 0u) |
                                            (axis_cell(hi_z[i], inverse_cell_m) != cz ? 4u : 0u));
-    const std::uint64_t column = column_of(key);
-    std::uint64_t region = column >= first_column[7] ? 8 : 0;
-    region += column >= first_column[region + 3] ? 4 : 0;
-    region += column >= first_column[region + 1] ? 2 : 0;
-    region += column >= first_column[region] ? 1 : 0;
-    const std::uint64_t row = key >> kRowShift;
-    const std::uint64_t in_region = (((row * 0x9E3779B97F4A7C15ull) >> 20) + (key & kZMask)) & region_mask;
-    buckets[i] = static_cast<std::uint32_t>((region << region_bits) | in_region);
+    buckets[i] = static_cast<std::uint32_t>(bucket_of(key, map));
   }
 }
 

@@ -205,24 +205,26 @@ class BroadPhaseGrid {
     // The first cell column of regions 1, 2, ... (padded with the largest value: never reached).
     std::uint32_t first_column[kMaxRegions - 1];
     int region_bits = 0;
-    // The largest power of two below the number of regions (0: one region).
-    std::size_t search_top = 0;
     // The first bucket of the region of cell column `column`: the number of borders at or below it, by
-    // a binary search without branches.
-    std::size_t base(std::uint64_t column) const {
-      std::size_t region = 0;
-      for (std::size_t step = search_top; step > 0; step >>= 1)
-        region += column >= first_column[region + step - 1] ? step : 0;
+    // a binary search without branches over all kMaxRegions - 1 borders (the unused ones are the
+    // largest column, never reached), the same four steps for any column (the key pass runs it in
+    // vector lanes).
+    std::uint64_t base(std::uint64_t column) const {
+      static_assert(kMaxRegions == 16);
+      std::uint64_t region = column >= first_column[7] ? 8 : 0;
+      region += column >= first_column[region + 3] ? 4 : 0;
+      region += column >= first_column[region + 1] ? 2 : 0;
+      region += column >= first_column[region] ? 1 : 0;
       return region << region_bits;
     }
   };
+  // Cell keys, buckets and crossing bits (GridBox) of objects [begin, end) from their float boxes, for
+  // cells of edge 1 / inverse_cell_m: a loop over arrays that vectorises.
+  void key_boxes(double inverse_cell_m, const RegionMap& regions, std::size_t begin, std::size_t end);
   // Bucket of a cell: its region's first bucket plus a hash of its row (x, y) plus its z cell, so the
   // cells of a row along z fall in consecutive buckets of one region (and, sorted by bucket, in
   // consecutive slots): the three z neighbours of a cell are one contiguous range (wrapping inside the
   // region), usually on one cache line of the bucket table.
-  // Cell keys, buckets and crossing bits (GridBox) of objects [begin, end) from their float boxes, for
-  // cells of edge 1 / inverse_cell_m: a loop over arrays that vectorises.
-  void key_boxes(double inverse_cell_m, const RegionMap& regions, std::size_t begin, std::size_t end);
   std::size_t bucket_of(std::uint64_t cell_key, const RegionMap& regions) const {
     return regions.base(column_of(cell_key)) | bucket_in_region(cell_key);
   }
