@@ -229,6 +229,14 @@ RunSummary Simulation::run(EventSink& sink, RunControl& control) {
   std::vector<Encounter> encounters;
   std::vector<char> flags;
   StateArrays start_state;
+  // What each step asks of the propagator: the start states, and the burn-up flags in the same pass
+  // unless a finder is given.
+  const bool flag_in_step = s.parts.burn_up && !s.parts.find_burn_ups;
+  StepRequest request{&start_state};
+  if (flag_in_step) {
+    request.burn_up_flags = &flags;
+    request.burn_up_radius2 = burn_up_radius2(cfg.burn_up_altitude_m);
+  }
 
   try {
     for (;;) {
@@ -260,14 +268,8 @@ RunSummary Simulation::run(EventSink& sink, RunControl& control) {
       const double t1_s = static_cast<double>(s.step + 1) * cfg.dt_s;
       Population& pop = s.population;
 
-      // Integrate; the propagator flags the burn-ups in the same pass unless a finder is given.
+      // Integrate.
       auto t = Clock::now();
-      const bool flag_in_step = s.parts.burn_up && !s.parts.find_burn_ups;
-      StepRequest request{&start_state};
-      if (flag_in_step) {
-        request.burn_up_flags = &flags;
-        request.burn_up_radius2 = burn_up_radius2(cfg.burn_up_altitude_m);
-      }
       s.parts.propagator->step_with(pop, t0_s, cfg.dt_s, request);
       timers.integrator_s += seconds_since(t);
 
