@@ -248,6 +248,31 @@ void histogram_bins_m(const std::uint32_t* hist, std::size_t bins, double origin
   next_width = (hi - lo + 2.0 * margin) / static_cast<double>(bins);
 }
 
+// Each object's oversized flag (one byte, from the box pass's flags), and the largest box edge [m] of
+// the others (the differences of the float corners taken in double): one loop that vectorises, where
+// the scalar one with the oversized objects' list inside took 2.3 ns per object-step.
+double flag_oversized(const BoxPassOutput& boxes, char* oversized_out, std::size_t begin, std::size_t end) {
+  const float* __restrict lo_x = boxes.lo[0];
+  const float* __restrict lo_y = boxes.lo[1];
+  const float* __restrict lo_z = boxes.lo[2];
+  const float* __restrict hi_x = boxes.hi[0];
+  const float* __restrict hi_y = boxes.hi[1];
+  const float* __restrict hi_z = boxes.hi[2];
+  const std::uint32_t* __restrict flags = boxes.flags;
+  char* __restrict oversized = oversized_out;
+  double largest = 0.0;
+#pragma omp simd reduction(max : largest)
+  for (std::size_t i = begin; i < end; ++i) {
+    const bool out = (flags[i] & kOversizedFlag) != 0;
+    oversized[i] = out;
+    const double edge =
+        std::max(double{hi_x[i]} - double{lo_x[i]},
+                 std::max(double{hi_y[i]} - double{lo_y[i]}, double{hi_z[i]} - double{lo_z[i]}));
+    largest = std::max(largest, out ? 0.0 : edge);
+  }
+  return largest;
+}
+
 }  // namespace
 
 void BroadPhaseGrid::prepare(std::size_t n, int threads) {
@@ -393,18 +418,10 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   // The oversized objects, and the largest edge of the others.
   HermiteHull* const hulls = hull_.data();
   char* const oversized_flags = oversized_flag_.data();
-  double largest_edge = 0.0;
+  const double largest_edge = flag_oversized(out, oversized_flags, begin, end);
   my_oversized.clear();
-  for (std::size_t i = begin; i < end; ++i) {
-    const bool oversized = (box_flags_[i] & kOversizedFlag) != 0;
-    oversized_flags[i] = oversized;
-    if (oversized) {
-      my_oversized.push_back(static_cast<std::uint32_t>(i));
-      continue;
-    }
-    for (int k = 0; k < 3; ++k)
-      largest_edge = std::max(largest_edge, double{box_hi_[k][i]} - double{box_lo_[k][i]});
-  }
+  for_each_flagged(oversized_flags, begin, end,
+                   [&](std::size_t i) { my_oversized.push_back(static_cast<std::uint32_t>(i)); });
   if (regions > 1) {
     // The histogram of the lower x corners for the regions' borders, on every kHistogramStride-th
     // object (the borders only balance the threads' work: no result depends on them).
