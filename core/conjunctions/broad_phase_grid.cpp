@@ -273,6 +273,32 @@ double flag_oversized(const BoxPassOutput& boxes, char* oversized_out, std::size
   return largest;
 }
 
+// counts[0, size) replaced by their running sum from `first` (the sum of those before each, plus first).
+// With AVX-512, 16 at a time (a scan in a register: 4 shifted adds), where the one-at-a-time loop's
+// chain of dependent adds took ~6 % of the build; size is then a multiple of 16 (>= 64 buckets).
+void exclusive_prefix_sum(std::uint32_t* counts, std::size_t size, std::uint32_t first) {
+  std::size_t f = 0;
+#ifdef __AVX512F__
+  const __m512i zero = _mm512_setzero_si512(), last = _mm512_set1_epi32(15);
+  __m512i carry = _mm512_set1_epi32(static_cast<int>(first));
+  for (; f + 16 <= size; f += 16) {
+    const __m512i c = _mm512_loadu_si512(counts + f);
+    __m512i sum = _mm512_add_epi32(c, _mm512_alignr_epi32(c, zero, 15));  // + the lane below
+    sum = _mm512_add_epi32(sum, _mm512_alignr_epi32(sum, zero, 14));      // + the 2 below those
+    sum = _mm512_add_epi32(sum, _mm512_alignr_epi32(sum, zero, 12));
+    sum = _mm512_add_epi32(sum, _mm512_alignr_epi32(sum, zero, 8));
+    _mm512_storeu_si512(counts + f, _mm512_add_epi32(carry, _mm512_sub_epi32(sum, c)));
+    carry = _mm512_add_epi32(carry, _mm512_permutexvar_epi32(last, sum));
+  }
+  if (f < size) first = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm512_castsi512_si128(carry)));
+#endif
+  for (; f < size; ++f) {
+    const std::uint32_t c = counts[f];
+    counts[f] = first;
+    first += c;
+  }
+}
+
 }  // namespace
 
 void BroadPhaseGrid::prepare(std::size_t n, int threads) {
@@ -614,12 +640,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       ++starts[b - first_bucket];
       occupied_[b >> 6] |= std::uint64_t{1} << (b & 63);
     });
-    std::uint32_t start = partition_start_[p];
-    for (std::size_t f = 0; f < fine_buckets; ++f) {
-      const std::uint32_t c = starts[f];
-      starts[f] = start;
-      start += c;
-    }
+    exclusive_prefix_sum(starts, fine_buckets, partition_start_[p]);
     // Scatter with the starts as cursors, then shift the starts back.
     each_box([&](const GridBox& box) {
       const std::uint32_t k = starts[box.bucket - first_bucket]++;
