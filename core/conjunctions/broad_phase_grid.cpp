@@ -275,7 +275,8 @@ double flag_oversized(const BoxPassOutput& boxes, char* oversized_out, std::size
 
 // counts[0, size) replaced by their running sum from `first` (the sum of those before each, plus first).
 // With AVX-512, 16 at a time (a scan in a register: 4 shifted adds), where the one-at-a-time loop's
-// chain of dependent adds took ~6 % of the build; size is then a multiple of 16 (>= 64 buckets).
+// chain of dependent adds took ~6 % of the build; the sort's partitions hold a multiple of 64 buckets,
+// so the scalar loop after it only serves other machines.
 void exclusive_prefix_sum(std::uint32_t* counts, std::size_t size, std::uint32_t first) {
   std::size_t f = 0;
 #ifdef __AVX512F__
@@ -290,7 +291,7 @@ void exclusive_prefix_sum(std::uint32_t* counts, std::size_t size, std::uint32_t
     _mm512_storeu_si512(counts + f, _mm512_add_epi32(carry, _mm512_sub_epi32(sum, c)));
     carry = _mm512_add_epi32(carry, _mm512_permutexvar_epi32(last, sum));
   }
-  if (f < size) first = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm512_castsi512_si128(carry)));
+  first = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm512_castsi512_si128(carry)));
 #endif
   for (; f < size; ++f) {
     const std::uint32_t c = counts[f];
