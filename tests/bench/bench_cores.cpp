@@ -82,6 +82,58 @@ CrossCoreCost measure_cross_core(std::size_t lines, int repeats) {
   return cost;
 }
 
+// Both cores at once on private data, with the grid's pattern: 48-byte records copied in sequence, then
+// stored field by field into slot arrays in random order, a barrier after each round. Seconds a round
+// with both threads at work over thread 0 alone: near 1 when the cores do not slow each other down by
+// streaming memory at the same moments (so any 2-thread excess beyond it comes from shared lines).
+double private_streaming_ratio(std::size_t records, int rounds, int repeats) {
+  struct Record {
+    float box[6];
+    std::uint64_t key;
+    std::uint32_t index, chord, crosses, slot;
+  };
+  static_assert(sizeof(Record) == 48);
+  std::vector<double> seconds[2];
+  for (int rep = 0; rep < repeats; ++rep) {
+    for (int both = 0; both < 2; ++both) {
+      double elapsed = 0.0;
+#pragma omp parallel num_threads(2)
+      {
+        const int t = omp_get_thread_num();
+        const bool works = t == 0 || both == 1;
+        std::vector<Record> from(records), to(records);
+        std::vector<float> slot_box[6];
+        for (std::vector<float>& axis : slot_box) axis.resize(records);
+        std::vector<std::uint64_t> slot_key(records);
+        std::vector<std::uint32_t> order(records);
+        std::iota(order.begin(), order.end(), 0u);
+        std::shuffle(order.begin(), order.end(), std::mt19937(static_cast<unsigned>(t + 1)));
+        for (std::size_t i = 0; i < records; ++i) from[i].slot = order[i];
+#pragma omp barrier
+        const double t0 = omp_get_wtime();
+        for (int round = 0; round < rounds; ++round) {
+          if (works) {
+            for (std::size_t i = 0; i < records; ++i) {
+              Record r = from[i];
+              r.key += static_cast<std::uint64_t>(round);
+              to[i] = r;
+            }
+            for (const Record& r : to) {
+              for (int a = 0; a < 6; ++a) slot_box[a][r.slot] = r.box[a];
+              slot_key[r.slot] = r.key;
+            }
+          }
+#pragma omp barrier
+        }
+        if (t == 0) elapsed = omp_get_wtime() - t0;
+        read_sink = slot_key[records / 2];
+      }
+      seconds[both].push_back(elapsed);
+    }
+  }
+  return median(seconds[1]) / median(seconds[0]);
+}
+
 void add_cross_core(JsonLine& line) {
   const CrossCoreCost cost = measure_cross_core(16384, 5);
   if (cost.team < 2) return;
@@ -104,11 +156,14 @@ int bench_cores(int argc, char** argv) {
     std::fprintf(stderr, "kessler-bench cores: needs 2 threads, OpenMP gave %d\n", cost.team);
     return 1;
   }
+  // 10,000 records a thread: one thread's share of leo-19647's grid on 2 threads (~1.2 MB).
+  const double streaming = private_streaming_ratio(10000, 200, std::max(repeats, 30));  // noisy: more
   std::printf(
       "cores: %zu lines, medians of %d: random read %.2f ns/line (own) vs %.2f (written by the other "
-      "core): %.1fx; sequential write %.2f (private) vs %.2f (read by the other core): %.1fx\n",
+      "core): %.1fx; sequential write %.2f (private) vs %.2f (read by the other core): %.1fx; private "
+      "streaming, both cores at once over one alone: %.2fx\n",
       lines, repeats, cost.read_own_ns, cost.read_other_ns, cost.read_ratio(), cost.write_private_ns,
-      cost.write_shared_ns, cost.write_ratio());
+      cost.write_shared_ns, cost.write_ratio(), streaming);
   JsonLine()
       .add("benchmark", std::string("cores"))
       .add("lines", static_cast<std::int64_t>(lines))
@@ -119,6 +174,7 @@ int bench_cores(int argc, char** argv) {
       .add("write_private_ns_per_line", cost.write_private_ns)
       .add("write_shared_ns_per_line", cost.write_shared_ns)
       .add("write_shared_ratio", cost.write_ratio())
+      .add("private_streaming_together_ratio", streaming)
       .print();
   return 0;
 }
