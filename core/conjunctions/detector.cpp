@@ -68,7 +68,10 @@ std::optional<std::string> ConjunctionDetector::validate(const ConjunctionSettin
 
 void ConjunctionDetector::scan(const Population& population, const StepEnds& step,
                                std::vector<Encounter>& out) {
-  if (auto problem = validate(settings_, step.dt_s)) throw std::invalid_argument(*problem);
+  if (step.dt_s != validated_dt_s_) {
+    if (auto problem = validate(settings_, step.dt_s)) throw std::invalid_argument(*problem);
+    validated_dt_s_ = step.dt_s;
+  }
   if (step.start == nullptr || step.end == nullptr)
     throw std::invalid_argument("step: start and end states are required");
   const std::size_t n = population.size();

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <atomic>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,6 +38,8 @@ class ConjunctionDetector {
 
  private:
   ConjunctionSettings settings_;
+  // The step the settings were last checked for (a check builds a string stream: once, not every step).
+  double validated_dt_s_ = std::numeric_limits<double>::quiet_NaN();  // none yet
   double last_grid_s_ = 0.0;
   double last_narrow_s_ = 0.0;
   std::size_t last_candidate_pairs_ = 0;

@@ -90,6 +90,18 @@ TEST(Settings, BadSettingsAreRefusedNamingTheField) {
   StateArrays a;
   std::vector<Encounter> out;
   EXPECT_THROW(detector.scan(p, StepEnds{0.0, 0.0, &a, &a}, out), std::invalid_argument);
+  // A step is checked once, not every scan: a good one passes, and a bad one after it is still refused.
+  EXPECT_NO_THROW(detector.scan(p, StepEnds{0.0, 10.0, &a, &a}, out));
+  EXPECT_NO_THROW(detector.scan(p, StepEnds{10.0, 10.0, &a, &a}, out));
+  for (double dt : {0.0, -10.0, double(NAN), 2000.0}) {
+    try {
+      detector.scan(p, StepEnds{20.0, dt, &a, &a}, out);
+      ADD_FAILURE() << "dt " << dt << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("dt_s", 0), 0u) << e.what();
+    }
+  }
+  EXPECT_NO_THROW(detector.scan(p, StepEnds{20.0, 10.0, &a, &a}, out));
 }
 
 Encounter encounter(ObjectId a, ObjectId b, double t, double d) {
