@@ -2,8 +2,9 @@
 // A step rewrites the whole grid, so 2-thread figures depend on this far more than on the work; on a VM
 // the host may place the two virtual cores on one shared cache or far apart, and the figure changes
 // with the placement (minutes apart on the development machine: 0.9 vs 3.5 ns per line read). Run it
-// beside any 2-thread measurement.
-//   --lines N (default 16384: 1 MiB)  --repeats R (default 10)
+// beside any 2-thread measurement. It also times the grid's pattern on private data on both cores at
+// once against one alone (private_streaming_ratio), which tells memory contention from shared lines.
+//   --lines N (default 16384: 1 MiB)  --repeats R (default 10; the streaming ratio takes at least 30)
 #include <omp.h>
 
 #include <algorithm>
@@ -157,7 +158,8 @@ int bench_cores(int argc, char** argv) {
     return 1;
   }
   // 10,000 records a thread: one thread's share of leo-19647's grid on 2 threads (~1.2 MB).
-  const double streaming = private_streaming_ratio(10000, 200, std::max(repeats, 30));  // noisy: more
+  // Single ratios swing by +-15 % on a shared host: the median takes at least 30 repeats.
+  const double streaming = private_streaming_ratio(10000, 200, std::max(repeats, 30));
   std::printf(
       "cores: %zu lines, medians of %d: random read %.2f ns/line (own) vs %.2f (written by the other "
       "core): %.1fx; sequential write %.2f (private) vs %.2f (read by the other core): %.1fx; private "
