@@ -27,13 +27,19 @@ struct alignas(64) Line {
 // Where the reads' sum goes, so they are not optimised away.
 volatile std::uint64_t read_sink = 0;
 
+// 0 .. n - 1 in a random order (fixed by seed).
+std::vector<std::uint32_t> random_order(std::size_t n, unsigned seed) {
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::shuffle(order.begin(), order.end(), std::mt19937(seed));
+  return order;
+}
+
 }  // namespace
 
 CrossCoreCost measure_cross_core(std::size_t lines, int repeats) {
   std::vector<Line> data(lines);
-  std::vector<std::uint32_t> order(lines);
-  std::iota(order.begin(), order.end(), 0u);
-  std::shuffle(order.begin(), order.end(), std::mt19937(12345));
+  const std::vector<std::uint32_t> order = random_order(lines, 12345);
 
   // Per repeat: the writer fills every line, then thread 0 reads them in random order (independent
   // loads, as a walk over neighbour cells does) or writes them in sequence after thread 1 has read
@@ -106,9 +112,7 @@ double private_streaming_ratio(std::size_t records, int rounds, int repeats) {
         std::vector<float> slot_box[6];
         for (std::vector<float>& axis : slot_box) axis.resize(records);
         std::vector<std::uint64_t> slot_key(records);
-        std::vector<std::uint32_t> order(records);
-        std::iota(order.begin(), order.end(), 0u);
-        std::shuffle(order.begin(), order.end(), std::mt19937(static_cast<unsigned>(t + 1)));
+        const std::vector<std::uint32_t> order = random_order(records, static_cast<unsigned>(t + 1));
         for (std::size_t i = 0; i < records; ++i) from[i].slot = order[i];
 #pragma omp barrier
         const double t0 = omp_get_wtime();
