@@ -391,8 +391,9 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   // Each thread owns the chunk of objects whose end states the propagator wrote on this core
   // (thread_chunks.hpp), so the first pass reads what this core holds.
   const auto [begin, end] = thread_chunk(n, t, threads);
-  // The cell edge guessed from the last step (read by every thread before anyone may change it).
-  const double guess = next_cell_m_;
+  // The cell edges guessed from the last step (read by every thread before anyone may change them):
+  // along y and z, and the columns' along x (no larger).
+  const double guess = next_cell_m_, guess_column = next_column_m_;
   std::uint32_t* counts = &coarse_count_[t * partitions];
   std::vector<std::uint32_t>& my_oversized = thread_oversized_[t];
 
@@ -409,16 +410,18 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     histogram_bins_m(hist_.data(), kHistogramBins, hist_origin_m_, hist_width_m_, bin_origin, bin_width);
   }
 
-  // Cell keys, the crossing bits and the coarse counts of this thread's chunk for cell edge `cell`.
+  // Cell keys, the crossing bits and the coarse counts of this thread's chunk for cells `column` wide
+  // along x and `cell` along y and z.
   // The counts go to the shared array once, at the end: every thread reads all of them after the
   // barrier, so counting in place would pull the line back from other cores at each object (16 threads
   // on 19,647 objects spent 3x longer here than one thread's share).
-  auto key_chunk = [&](double cell) {
-    const double inverse_cell = 1.0 / cell;
+  auto key_chunk = [&](double column, double cell) {
+    const double inverse_column = 1.0 / column;
     // Each region starts at the column edge nearest its border.
     for (std::size_t s = 0; s + 1 < regions; ++s)
-      map.first_column[s] = static_cast<std::uint32_t>(axis_cell(borders_m[s] + 0.5 * cell, inverse_cell));
-    key_boxes(inverse_cell, map, begin, end);
+      map.first_column[s] =
+          static_cast<std::uint32_t>(axis_cell(borders_m[s] + 0.5 * column, inverse_column));
+    key_boxes(inverse_column, 1.0 / cell, map, begin, end);
     std::uint32_t local_counts[kMaxPartitions] = {};
     for (std::size_t i = begin; i < end; ++i)
       if (!oversized_flag_[i]) ++local_counts[box_bucket_[i] >> fine_bits_];
@@ -479,15 +482,16 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   }
   thread_edge_[t] = largest_edge;
   timeline.mark(t, kDetEdges);
-  if (guess > 0.0) key_chunk(guess);
+  if (guess > 0.0) key_chunk(guess_column, guess);
   timeline.mark(t, kDetKeys);
 #pragma omp barrier
   timeline.mark(t, kDetWaitBoxes);
   // Every thread takes the same maximum over the chunks (exact: no order dependence).
   double largest = 0.0;
   for (std::size_t u = 0; u < threads; ++u) largest = std::max(largest, thread_edge_[u]);
-  double cell = guess;
-  const bool fits = guess > 0.0 && largest * (1.0 + 1e-9) <= guess;  // 1e-9: rounding of the keys
+  double cell = guess, column = guess_column;
+  // 1e-9: rounding of the keys
+  const bool fits = guess > 0.0 && largest * (1.0 + 1e-9) <= std::min(guess, guess_column);
   // Bin b of this build's histogram, over all threads' chunks.
   auto summed_bin = [&](std::size_t b) {
     std::uint32_t total = 0;
@@ -496,14 +500,14 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   };
   if (!fits) {
     // The guess is too small (or there is none): key again with a cell of this step's largest edge.
-    cell = std::max(largest, 1.0) * (1.0 + kCellMargin);
+    cell = column = std::max(largest, 1.0) * (1.0 + kCellMargin);
     if (regions > 1) {
       // The borders from this build's histogram, all threads' (rare: only the first build needs it).
       std::uint32_t hist[kHistogramBins];
       for (std::size_t b = 0; b < kHistogramBins; ++b) hist[b] = summed_bin(b);
       region_borders_m(hist, kHistogramBins, bin_origin, bin_width, regions, borders_m);
     }
-    key_chunk(cell);
+    key_chunk(column, cell);
 #pragma omp barrier
   }
   if (regions > 1) {
@@ -528,6 +532,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   }
   if (t == 0) {
     cell_size_m_ = cell;
+    column_width_m_ = column;
     ++builds_;
     if (!fits) ++rekeyed_builds_;
     // Next step's guess: the largest box edge times the coarsening (this step's cell while that fits
@@ -538,14 +543,23 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     occupancy_team_ = threads;
     coarsening_ = next_coarsening(coarsening_, slots_in_grid_, occupied);
     const double needed = std::max(largest, 1.0) * (1.0 + kCellMargin);
-    double wanted = needed * coarsening_;
+    const double wanted = needed * coarsening_;
+    // With several regions the columns stay narrow enough for each region to keep a few (the borders
+    // fall on column edges), and only y and z coarsen past that: the cells' volume, and so the objects
+    // per cell the walk wants, no longer shrinks as the team grows (at 16 threads, leo-19647's cells
+    // were held at the largest box edge, 1.4 objects each, and the walk took 1.9x one thread's share).
+    double wanted_column = wanted;
     if (regions > 1) {
       // The central 99 % of the lower x corners, from this build's bins (histogram_bins_m).
       const double span_m = static_cast<double>(kHistogramBins) * bin_width / (1.0 + 2.0 * kHistogramMargin);
-      wanted =
+      wanted_column =
           std::min(wanted, std::max(needed, span_m / (kMinColumnsPerRegion * static_cast<double>(regions))));
     }
-    next_cell_m_ = (fits && cell >= wanted && cell <= wanted * kCellShrinkRatio) ? cell : wanted;
+    auto keep_or = [&](double now, double target) {
+      return (fits && now >= target && now <= target * kCellShrinkRatio) ? now : target;
+    };
+    next_cell_m_ = keep_or(cell, wanted);
+    next_column_m_ = keep_or(column, wanted_column);
     region_map_ = map;
     if (regions > 1) {
       hist_origin_m_ = bin_origin;  // the bins this build's histogram is made of
@@ -669,8 +683,8 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   timeline.mark(t, kDetWaitSort);
 }
 
-void BroadPhaseGrid::key_boxes(double inverse_cell_m, const RegionMap& regions, std::size_t begin,
-                               std::size_t end) {
+void BroadPhaseGrid::key_boxes(double inverse_column_m, double inverse_cell_m, const RegionMap& regions,
+                               std::size_t begin, std::size_t end) {
   // Local restrict copies of every pointer and value, so the loop vectorises (see grow_boxes).
   const float* __restrict lo_x = box_lo_[0].data();
   const float* __restrict lo_y = box_lo_[1].data();
@@ -684,13 +698,13 @@ void BroadPhaseGrid::key_boxes(double inverse_cell_m, const RegionMap& regions, 
   const RegionMap map = regions;  // a local copy: the loop must not re-read it after each store
 #pragma omp simd
   for (std::size_t i = begin; i < end; ++i) {
-    const std::uint64_t cx = axis_cell(lo_x[i], inverse_cell_m), cy = axis_cell(lo_y[i], inverse_cell_m),
+    const std::uint64_t cx = axis_cell(lo_x[i], inverse_column_m), cy = axis_cell(lo_y[i], inverse_cell_m),
                         cz = axis_cell(lo_z[i], inverse_cell_m);
     const std::uint64_t key = (cx << (2 * kAxisBits)) | (cy << kAxisBits) | cz;
     keys[i] = key;
     // Monotone cells: a box whose upper corner is in its lower corner's cell along an axis lies below
     // every lower corner of a later cell on that axis.
-    crosses[i] = static_cast<std::uint8_t>((axis_cell(hi_x[i], inverse_cell_m) != cx ? 1u : 0u) |
+    crosses[i] = static_cast<std::uint8_t>((axis_cell(hi_x[i], inverse_column_m) != cx ? 1u : 0u) |
                                            (axis_cell(hi_y[i], inverse_cell_m) != cy ? 2u : 0u) |
                                            (axis_cell(hi_z[i], inverse_cell_m) != cz ? 4u : 0u));
     buckets[i] = static_cast<std::uint32_t>(bucket_of(key, map));
@@ -877,8 +891,9 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, std::size_t first, std::size
   // Overlapping boxes' corners are within 2 cell edges on each axis, so the pairs' relative lines within
   // 3.5. Past kFloatFilterMaxCell_m the float filter's products could overflow: every box hit then goes
   // to the double filter.
-  const float filter_extent_m = static_cast<float>(3.5 * cell_size_m_);
-  const __mmask16 filter_off = cell_size_m_ <= kFloatFilterMaxCell_m ? 0 : 0xFFFF;
+  const double widest_edge_m = std::max(cell_size_m_, column_width_m_);
+  const float filter_extent_m = static_cast<float>(3.5 * widest_edge_m);
+  const __mmask16 filter_off = widest_edge_m <= kFloatFilterMaxCell_m ? 0 : 0xFFFF;
   const float* const lo_arrays[3] = {lo0, lo1, lo2};
   const float* const hi_arrays[3] = {hi0, hi1, hi2};
   // Dense regions hit boxes in most groups of lanes, at random: there the float filter runs on every

@@ -15,13 +15,14 @@
 // no wait for the maximum, and computed again from this step's largest edge plus 0.5 % when the boxes
 // do not fit the guess: the candidates depend only on the boxes, never on L. Where the population is
 // sparse, L is a multiple of the largest edge, chosen so that occupied cells hold 4-8 objects: see
-// kSparseObjectsPerCell.) If two boxes overlap on an axis, lo_j <= hi_i
-// <= lo_i + L and lo_i <= lo_j + L, so their lower corners are within L and fall in the same or adjacent
-// cells. Every overlapping pair is therefore found by looking at a cell and its 26 neighbours (13 forward
-// ones plus itself, each unordered pair once), and the exact box-overlap test keeps only real candidates. An
-// upper bound of L for any population (validation): a bound orbit above the Earth's surface moves at most at
-// the surface escape speed (11.19 km/s), and the Bezier hull spans at most 5/3 of v dt, so L <= 5/3 * 11.19
-// km/s * dt + 2 max h_i.
+// kSparseObjectsPerCell; with several regions of space, cells may be narrower along x than along y and
+// z, each edge still at least the largest box edge.) If two boxes overlap on an axis, lo_j <= hi_i
+// <= lo_i + L and lo_i <= lo_j + L, so their lower corners are within L (that axis's edge) and fall in
+// the same or adjacent cells. Every overlapping pair is therefore found by looking at a cell and its 26
+// neighbours (13 forward ones plus itself, each unordered pair once), and the exact box-overlap test keeps
+// only real candidates. An upper bound of L for any population (validation): a bound orbit above the Earth's
+// surface moves at most at the surface escape speed (11.19 km/s), and the Bezier hull spans at most 5/3 of v
+// dt, so L <= 5/3 * 11.19 km/s * dt + 2 max h_i.
 //
 // Objects whose motion spans more than that bound along an axis (non-finite or unbound states: a propagation
 // gone wrong, an object falling through the Earth before its burn-up is applied) would blow the cell up and
@@ -150,7 +151,10 @@ class BroadPhaseGrid {
   std::size_t oversized_count() const { return oversized_.size(); }
   void collect_oversized_pairs(std::size_t begin, std::size_t end, std::vector<CandidatePair>& out) const;
 
+  // The last build's cell edges: along y and z, and along x (the cell columns), which is narrower
+  // only where several regions need columns enough to share out.
   double cell_size_m() const { return cell_size_m_; }
+  double column_width_m() const { return column_width_m_; }
   // Builds so far, and those whose guessed cell (the last step's) was too small, so keys were computed
   // twice.
   std::size_t builds() const { return builds_; }
@@ -219,8 +223,10 @@ class BroadPhaseGrid {
     }
   };
   // Cell keys, buckets and crossing bits (GridBox) of objects [begin, end) from their float boxes, for
-  // cells of edge 1 / inverse_cell_m: a loop over arrays that vectorises.
-  void key_boxes(double inverse_cell_m, const RegionMap& regions, std::size_t begin, std::size_t end);
+  // cells 1 / inverse_column_m wide along x and 1 / inverse_cell_m along y and z: a loop over arrays
+  // that vectorises.
+  void key_boxes(double inverse_column_m, double inverse_cell_m, const RegionMap& regions, std::size_t begin,
+                 std::size_t end);
   // Bucket of a cell: its region's first bucket plus a hash of its row (x, y) plus its z cell, so the
   // cells of a row along z fall in consecutive buckets of one region (and, sorted by bucket, in
   // consecutive slots): the three z neighbours of a cell are one contiguous range (wrapping inside the
@@ -282,10 +288,10 @@ class BroadPhaseGrid {
   };
   static_assert(sizeof(GridBox) == 48);
 
-  double cell_size_m_ = 0.0;
-  // The cell edge to try first in the next build: the candidates never depend on it (only on the boxes),
-  // so carrying it from step to step changes no result, and saves a pass when it fits.
-  double next_cell_m_ = 0.0;
+  double cell_size_m_ = 0.0, column_width_m_ = 0.0;
+  // The cell edges to try first in the next build: the candidates never depend on them (only on the
+  // boxes), so carrying them from step to step changes no result, and saves a pass when they fit.
+  double next_cell_m_ = 0.0, next_column_m_ = 0.0;
   std::size_t builds_ = 0, rekeyed_builds_ = 0;
   // The cell edge over the largest box edge (>= 1: coarser cells where the population is sparse).
   double coarsening_ = 1.0;

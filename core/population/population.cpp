@@ -1,6 +1,9 @@
 #include "core/population/population.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <sstream>
 #include <unordered_set>
 
@@ -61,25 +64,41 @@ ObjectRecord Population::record(std::size_t i) const {
 }
 
 namespace {
+// Closes the gaps left by the removed indices (ascending), moving the runs between them down: nothing
+// before the first removed index moves, and plain columns move by memmove. A step burns up a handful
+// of objects, so this costs a few runs per column, not a test per object (the serial remainder of a
+// step with burn-ups, while the team waits).
 template <typename T>
-void compact(std::vector<T>& v, const std::vector<char>& flags) {
-  std::size_t out = 0;
-  for (std::size_t i = 0; i < v.size(); ++i)
-    if (!flags[i]) {
-      if (out != i) v[out] = std::move(v[i]);
-      ++out;
-    }
+void compact(std::vector<T>& v, const std::vector<std::size_t>& removed) {
+  std::size_t out = removed.front();
+  for (std::size_t k = 0; k < removed.size(); ++k) {
+    const std::size_t from = removed[k] + 1, to = k + 1 < removed.size() ? removed[k + 1] : v.size();
+    std::move(v.begin() + static_cast<std::ptrdiff_t>(from), v.begin() + static_cast<std::ptrdiff_t>(to),
+              v.begin() + static_cast<std::ptrdiff_t>(out));
+    out += to - from;
+  }
   v.resize(out);
 }
 }  // namespace
 
 void Population::remove_flagged(const std::vector<char>& flags) {
-  compact(id, flags);
-  compact(name, flags);
+  // The flagged indices, eight flags at a time (nearly all are clear).
+  std::vector<std::size_t> removed;
+  const std::size_t n = size();
+  for (std::size_t i = 0; i < n; i += 8) {
+    std::uint64_t word = 0;
+    std::memcpy(&word, flags.data() + i, std::min<std::size_t>(8, n - i));
+    if (word == 0) continue;
+    for (std::size_t j = i; j < std::min(i + 8, n); ++j)
+      if (flags[j]) removed.push_back(j);
+  }
+  if (removed.empty()) return;
+  compact(id, removed);
+  compact(name, removed);
   for (auto* v : {&state.x, &state.y, &state.z, &state.vx, &state.vy, &state.vz, &radius_m, &mass_kg,
                   &drag_area_to_mass_m2_kg, &srp_area_to_mass_m2_kg})
-    compact(*v, flags);
-  compact(status, flags);
+    compact(*v, removed);
+  compact(status, removed);
 }
 
 std::optional<std::size_t> Population::index_of(ObjectId object_id) const {

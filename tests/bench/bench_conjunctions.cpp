@@ -134,6 +134,7 @@ int run(int argc, char** argv) {
       .add("detect_ns_per_object_step_first_repeat", detect_walls[0] * threads * 1e9 / object_steps)
       .add("grid_ns_per_object_step", grid * threads * 1e9 / object_steps)
       .add("grid_cell_km", detector.grid().cell_size_m() / 1e3)
+      .add("grid_column_km", detector.grid().column_width_m() / 1e3)
       .add("grid_rekeyed_fraction",
            static_cast<double>(detector.grid().rekeyed_builds()) /
                static_cast<double>(std::max<std::size_t>(detector.grid().builds(), 1)));

@@ -178,6 +178,30 @@ TEST(BroadPhaseGrid, SparseCloudsGetCoarserCellsWithTheSamePairs) {
   EXPECT_LT(grid.cell_size_m(), 2.5 * edge_cell);  // ~4-8 objects per occupied cell, no more
 }
 
+TEST(BroadPhaseGrid, ManyRegionsKeepNarrowColumnsAndCoarsenOnlyYAndZ) {
+  // The sparse cloud above on 16 threads: 16 regions of at least 4 columns over 1,500 km leave columns
+  // no wider than the largest box, while y and z still coarsen to several objects per cell. Every
+  // build lists exactly the overlapping pairs, each once, and the same pairs as one thread.
+  const int saved = omp_get_max_threads();
+  const StateArrays sparse = dense_population(3000, 1.5e6, 7);
+  std::size_t listed = 0;
+  omp_set_num_threads(1);
+  const auto one = grid_pairs(sparse, 10.0, 20000.0, listed);
+  omp_set_num_threads(16);
+  BroadPhaseGrid grid;
+  expect_grid_matches_all_pairs(sparse, 10.0, 20000.0, &grid, false);
+  const double edge_cell = grid.cell_size_m();  // a first build fits the largest box
+  EXPECT_EQ(grid.column_width_m(), edge_cell);
+  for (int build = 0; build < 8; ++build) {
+    EXPECT_EQ(grid_pairs(grid, sparse, 10.0, 20000.0, listed), one) << "build " << build;
+    EXPECT_EQ(listed, one.size()) << "build " << build << ": a pair listed twice";
+  }
+  expect_grid_matches_all_pairs(sparse, 10.0, 20000.0, &grid, false);
+  EXPECT_LT(grid.column_width_m(), 1.06 * edge_cell);  // held at the largest box (within the slack)
+  EXPECT_GT(grid.cell_size_m(), 1.8 * edge_cell);      // y and z coarsened
+  omp_set_num_threads(saved);
+}
+
 TEST(BroadPhaseGrid, SamePairsOnceForAnyThreadCount) {
   // Each thread sorts the partitions of its region of space (slabs of x). In a first build the regions'
   // borders come from that build's own objects; 7 regions over the ~5 cell columns of these clouds
@@ -210,7 +234,7 @@ TEST(BroadPhaseGrid, RegionsBalanceTheThreadsAndKeepEveryPairAcrossTheirBorders)
   BroadPhaseGrid grid;
   expect_grid_matches_all_pairs(s, 10.0, 5000.0, &grid);  // borders from this build's histogram
   expect_grid_matches_all_pairs(s, 10.0, 5000.0, &grid);  // borders from the last build's
-  EXPECT_GT(1.6e6 / grid.cell_size_m(), 12.0);            // several columns per region
+  EXPECT_GT(1.6e6 / grid.column_width_m(), 12.0);         // several columns per region
   std::size_t covered = 0;
   for (std::size_t t = 0; t < 4; ++t) {
     const auto [first, last] = grid.sorted_slots(t, 4);
