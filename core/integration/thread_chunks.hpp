@@ -6,7 +6,6 @@
 
 #include <atomic>
 #include <cstddef>
-#include <cstring>
 #include <memory>
 
 namespace kessler {
@@ -86,16 +85,5 @@ class ChunkBlocks {
   std::unique_ptr<Cursor[]> cursors_;
   std::size_t capacity_ = 0, team_ = 0, block_ = 1;
 };
-
-// Calls f(i) for each i in [begin, end) whose flag is 1, in order. Flags set are rare (burn-ups, low
-// objects), so it jumps from one to the next with memchr.
-template <class F>
-void for_each_flagged(const char* flags, std::size_t begin, std::size_t end, F&& f) {
-  for (const char* p = flags + begin; p < flags + end; ++p) {
-    p = static_cast<const char*>(std::memchr(p, 1, static_cast<std::size_t>(flags + end - p)));
-    if (p == nullptr) return;
-    f(static_cast<std::size_t>(p - flags));
-  }
-}
 
 }  // namespace kessler

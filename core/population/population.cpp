@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
-#include <cstring>
 #include <sstream>
 #include <unordered_set>
 
@@ -82,16 +80,8 @@ void compact(std::vector<T>& v, const std::vector<std::size_t>& removed) {
 }  // namespace
 
 void Population::remove_flagged(const std::vector<char>& flags) {
-  // The flagged indices, eight flags at a time (nearly all are clear).
   std::vector<std::size_t> removed;
-  const std::size_t n = size();
-  for (std::size_t i = 0; i < n; i += 8) {
-    std::uint64_t word = 0;
-    std::memcpy(&word, flags.data() + i, std::min<std::size_t>(8, n - i));
-    if (word == 0) continue;
-    for (std::size_t j = i; j < std::min(i + 8, n); ++j)
-      if (flags[j]) removed.push_back(j);
-  }
+  for_each_flagged(flags.data(), 0, size(), [&](std::size_t i) { removed.push_back(i); });
   if (removed.empty()) return;
   compact(id, removed);
   compact(name, removed);

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <optional>
 #include <string>
 #include <vector>
@@ -35,12 +36,12 @@ struct StateArrays {
 struct ObjectRecord {
   ObjectId id = 0;
   std::string name;
-  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();     // TEME of epoch
-  Eigen::Vector3d velocity_m_s = Eigen::Vector3d::Zero();   // TEME of epoch
-  double radius_m = 0.0;                   // collision radius (sphere)
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();    // TEME of epoch
+  Eigen::Vector3d velocity_m_s = Eigen::Vector3d::Zero();  // TEME of epoch
+  double radius_m = 0.0;                                   // collision radius (sphere)
   double mass_kg = 0.0;
-  double drag_area_to_mass_m2_kg = 0.0;    // Cd * A / m (ballistic coefficient's inverse)
-  double srp_area_to_mass_m2_kg = 0.0;     // A / m facing the Sun (reflectivity 1)
+  double drag_area_to_mass_m2_kg = 0.0;  // Cd * A / m (ballistic coefficient's inverse)
+  double srp_area_to_mass_m2_kg = 0.0;   // A / m facing the Sun (reflectivity 1)
   ObjectStatus status = ObjectStatus::kPassive;
 };
 
@@ -63,7 +64,8 @@ class Population {
   void add(const ObjectRecord& record);
   ObjectRecord record(std::size_t i) const;
 
-  // Removes the objects whose flag is set (flags.size() == size()), keeping the order of the rest.
+  // Removes the objects whose flag is 1 (flags.size() == size(); each flag 0 or 1), keeping the order of
+  // the rest.
   void remove_flagged(const std::vector<char>& flags);
 
   // Index of an id, if present (linear scan; for tests and tools, not hot loops).
@@ -77,5 +79,16 @@ class Population {
 
 // The problem with one record, or nullopt: the same rules as Population::validate.
 std::optional<std::string> validate_record(const ObjectRecord& record);
+
+// Calls f(i) for each i in [begin, end) whose per-object flag is 1, in order. Flags set are rare (burn-ups,
+// low objects, far-out boxes), so it jumps from one to the next with memchr.
+template <class F>
+void for_each_flagged(const char* flags, std::size_t begin, std::size_t end, F&& f) {
+  for (const char* p = flags + begin; p < flags + end; ++p) {
+    p = static_cast<const char*>(std::memchr(p, 1, static_cast<std::size_t>(flags + end - p)));
+    if (p == nullptr) return;
+    f(static_cast<std::size_t>(p - flags));
+  }
+}
 
 }  // namespace kessler
