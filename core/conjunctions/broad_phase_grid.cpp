@@ -31,6 +31,12 @@ constexpr double kRoundingMargin_m = 1e-3;
 // A box's float rounding is 2^-22 of its coordinates on each side (at most 1.7 m in LEO): boxes wider
 // than the motion bound by more than this are far out, and oversized.
 constexpr double kFarRoundingSlack_m = 100.0;
+// Boxes reaching beyond this along any axis [m] (2.6 times the Moon's distance) are far out too, and
+// oversized: rounding widens a box there by up to 240 m a side, so real catalogs' entries at ~10^12 m
+// would otherwise stay in the grid with boxes hundreds of km wide and set every cell's edge. Each grid
+// box lies inside the cube of this half-edge, so an oversized box that misses the cube can meet only
+// other oversized boxes.
+constexpr float kFarOut_m = 1.0e9f;
 // The regions' histogram takes every kHistogramStride-th object; its bins span the last one's central
 // 99 % widened by kHistogramMargin of that on each side.
 constexpr std::size_t kHistogramStride = 4;
@@ -173,11 +179,12 @@ void grow_boxes(const StateArrays& s0, const StateArrays& s1, const ThresholdSha
     // axis); err is the larger distance of those corners from the exact ends.
     float lo_f[3], hi_f[3];
     std::uint32_t bits = 0;
-    double err0 = 0.0, err1 = 0.0, float_edge = 0.0;
+    double err0 = 0.0, err1 = 0.0, float_edge = 0.0, farthest = 0.0;
     for (int k = 0; k < 3; ++k) {
       lo_f[k] = float_below(lo[k] - grow);
       hi_f[k] = float_above(hi[k] + grow);
       float_edge = std::max(float_edge, double{hi_f[k]} - double{lo_f[k]});
+      farthest = std::max(farthest, std::max(-double{lo_f[k]}, double{hi_f[k]}));
       const bool rising = p0[k] <= chord_end[k];
       bits |= rising ? 1u << k : 0u;
       const double d0 = (rising ? double{lo_f[k]} : double{hi_f[k]}) - p0[k];
@@ -185,8 +192,9 @@ void grow_boxes(const StateArrays& s0, const StateArrays& s1, const ThresholdSha
       err0 += d0 * d0;
       err1 += d1 * d1;
     }
-    // Far out (some catalog entries sit at ~10^12 m), rounding to floats alone widens a box past the bound.
-    const bool oversized = !(motion_edge <= max_motion) ||
+    // Far out (some catalog entries sit at ~10^12 m): beyond kFarOut_m, or rounding to floats alone
+    // widens the box past the bound.
+    const bool oversized = !(motion_edge <= max_motion) || !(farthest <= double{kFarOut_m}) ||
                            !(float_edge <= max_motion + 2.0 * grow + kFarRoundingSlack_m) ||
                            !std::isfinite(lo[0] + lo[1] + lo[2] + hi[0] + hi[1] + hi[2] + grow);
     lo_x[i] = lo_f[0];
@@ -730,6 +738,18 @@ void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
     const std::size_t i = oversized_[o];
     const float a_lo_x = lo_x[i], a_lo_y = lo_y[i], a_lo_z = lo_z[i];
     const float a_hi_x = hi_x[i], a_hi_y = hi_y[i], a_hi_z = hi_z[i];
+    if (!(a_lo_x <= kFarOut_m && -kFarOut_m <= a_hi_x && a_lo_y <= kFarOut_m && -kFarOut_m <= a_hi_y &&
+          a_lo_z <= kFarOut_m && -kFarOut_m <= a_hi_z)) {
+      // Its box misses the cube that holds every grid box (far out): only the later oversized objects
+      // can meet it, in the order the scan below would find them.
+      for (std::size_t p = o + 1; p < oversized_.size(); ++p) {
+        const std::size_t j = oversized_[p];
+        if (a_lo_x <= hi_x[j] && lo_x[j] <= a_hi_x && a_lo_y <= hi_y[j] && lo_y[j] <= a_hi_y &&
+            a_lo_z <= hi_z[j] && lo_z[j] <= a_hi_z)
+          out.push_back(CandidatePair{static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)});
+      }
+      continue;
+    }
     for (std::size_t j0 = 0; j0 < n; j0 += kBlock) {
       const std::size_t m = std::min(kBlock, n - j0);
       std::fill(hit + m, hit + kBlock, 0);

@@ -68,6 +68,12 @@ class TeamTimeline {
     }
     return {threads_.empty() ? 0.0 : sum / static_cast<double>(threads_.size()), most};
   }
+  // Segment s's seconds for each thread, summed over the run.
+  std::vector<double> per_thread(int s) const {
+    std::vector<double> seconds;
+    for (const PerThread& p : threads_) seconds.push_back(p.sum[s]);
+    return seconds;
+  }
 
  private:
   struct alignas(64) PerThread {  // one thread's lines only

@@ -15,6 +15,7 @@
 #include <sys/resource.h>
 #include <time.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -56,6 +57,51 @@ std::int64_t peak_rss_bytes() {
   getrusage(RUSAGE_SELF, &usage);
   return static_cast<std::int64_t>(usage.ru_maxrss) * 1024;  // Linux reports kilobytes
 }
+
+// The project's detector, and how evenly its grid's regions of space share the objects: after each
+// scan, the slots of the fullest region over the mean (1 = even). A region's thread sorts its slots
+// alone and walks them first, so a full region holds the team up. The figure depends only on the
+// population and the team's size, not on timing: a team of 16 on a 2-core machine gives the 16-core
+// machine's.
+class RegionBalanceScanner final : public EncounterScanner {
+ public:
+  RegionBalanceScanner(const ConjunctionSettings& settings, std::size_t team)
+      : detector_(settings), team_(team) {}
+  void scan(const Population& population, const StepEnds& step, std::vector<Encounter>& out) override {
+    detector_.scan(population, step, out);
+    const BroadPhaseGrid& grid = detector_.grid();
+    cell_km_sum_ += grid.cell_size_m() / 1e3;
+    column_km_sum_ += grid.column_width_m() / 1e3;
+    ++all_scans_;
+    if (team_ < 2 || grid.slot_count() == 0) return;
+    std::size_t fullest = 0;
+    for (std::size_t t = 0; t < team_; ++t) {
+      const auto [first, last] = grid.sorted_slots(t, team_);
+      fullest = std::max(fullest, last - first);
+    }
+    fullest_over_mean_sum_ +=
+        static_cast<double>(fullest) * static_cast<double>(team_) / static_cast<double>(grid.slot_count());
+    ++scans_;
+  }
+  double last_grid_s() const override { return detector_.last_grid_s(); }
+  // The grid's cell edges [km], along y and z and along x (the columns), averaged over the scans.
+  double mean_cell_km() const {
+    return all_scans_ > 0 ? cell_km_sum_ / static_cast<double>(all_scans_) : 0.0;
+  }
+  double mean_column_km() const {
+    return all_scans_ > 0 ? column_km_sum_ / static_cast<double>(all_scans_) : 0.0;
+  }
+  // The mean over the scans so far of the fullest region's slots over the mean (0 before any).
+  double fullest_region_over_mean() const {
+    return scans_ > 0 ? fullest_over_mean_sum_ / static_cast<double>(scans_) : 0.0;
+  }
+
+ private:
+  ConjunctionDetector detector_;
+  std::size_t team_;
+  double fullest_over_mean_sum_ = 0.0, cell_km_sum_ = 0.0, column_km_sum_ = 0.0;
+  std::size_t scans_ = 0, all_scans_ = 0;
+};
 
 // Counts events; writes encounters as CSV when given a file (for comparisons between runs).
 class CountingSink final : public EventSink {
@@ -244,8 +290,16 @@ int run(int argc, char** argv) {
   propagator->set_threads(threads);
   RunSummary summary;
   CountingSink sink(events_out);
-  double wall = 0.0, cpu = 0.0, integrator_cpu = 0.0, detection_cpu = 0.0;
+  double wall = 0.0, cpu = 0.0, integrator_cpu = 0.0, detection_cpu = 0.0, fullest_region = 0.0,
+         cell_km = 0.0, column_km = 0.0;
   SimulationParts parts = default_parts(config, std::move(propagator));
+  RegionBalanceScanner* region_balance = nullptr;
+  if (parts.scanner) {
+    auto scanner =
+        std::make_unique<RegionBalanceScanner>(config.conjunctions, static_cast<std::size_t>(threads));
+    region_balance = scanner.get();
+    parts.scanner = std::move(scanner);
+  }
   // The per-part CPU clocks read the whole process's CPU time (a system call that visits every thread,
   // ~2 us here) four times a step, on the master thread while the others wait: 1-2 % of a leo-19647
   // run's wall time on 1 or 2 threads. So they are asked for (--cpu-times), not on by default;
@@ -279,6 +333,11 @@ int run(int argc, char** argv) {
     // Read while the simulation (which owns the parts) lives.
     integrator_cpu = propagator_cpu ? propagator_cpu->cpu_s : 0.0;
     detection_cpu = scanner_cpu ? scanner_cpu->cpu_s : 0.0;
+    if (region_balance) {
+      fullest_region = region_balance->fullest_region_over_mean();
+      cell_km = region_balance->mean_cell_km();
+      column_km = region_balance->mean_column_km();
+    }
   } catch (const std::exception& e) {
     std::cerr << "kessler-bench run: " << e.what() << "\n";
     if (events_out) std::fclose(events_out);
@@ -348,10 +407,18 @@ int run(int argc, char** argv) {
         const auto [mean, most] = timeline->mean_and_max(static_cast<int>(s));
         const std::string key = std::string("t_") + prefix + "_" + timeline->segments()[s];
         line.add(key + "_mean_s", mean).add(key + "_max_s", most);
+        if (threads <= 4) {  // each thread's, where a team is small enough to read them
+          std::string each;
+          for (const double seconds : timeline->per_thread(static_cast<int>(s)))
+            each += (each.empty() ? "" : " ") + std::to_string(seconds);
+          line.add(key + "_each_s", each);
+        }
       }
       timeline->enable(false);
     }
   }
+  if (region_balance) line.add("grid_cell_km_mean", cell_km).add("grid_column_km_mean", column_km);
+  if (threads >= 2) line.add("fullest_region_over_mean", fullest_region);
   if (threads >= 2) add_cross_core(line);  // where the host put the cores: 2-thread figures follow it
   line.print();
   return 0;

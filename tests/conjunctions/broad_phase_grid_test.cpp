@@ -248,5 +248,78 @@ TEST(BroadPhaseGrid, RegionsBalanceTheThreadsAndKeepEveryPairAcrossTheirBorders)
   omp_set_num_threads(saved);
 }
 
+TEST(BroadPhaseGrid, FarOutObjectsStayOutOfTheGridAndMeetOnlyWhatTheirBoxesReach) {
+  // Real catalogs hold a few objects far out (the paper's, some at ~10^12 m). There rounding to floats
+  // widens a box by ~240 km a side: still under the motion bound at dt 30 s, so kept in the grid they
+  // would set the cell edge for every other object. Beyond 10^9 m they are oversized instead. Two of
+  // them 10 m apart must still meet (each other only, once); one at 9 x 10^8 m stays in the grid; an
+  // object too fast for any orbit, in the middle of the cloud, meets every object its box overlaps.
+  const double dt = 30.0, share = 5000.0;
+  StateArrays s = dense_population(2000, 4.0e5, 8);
+  const std::size_t cloud = s.size();
+  auto add = [&](double x, double y, double z, double vx, double vy, double vz) {
+    s.resize(s.size() + 1);
+    const std::size_t i = s.size() - 1;
+    s.x[i] = x, s.y[i] = y, s.z[i] = z, s.vx[i] = vx, s.vy[i] = vy, s.vz[i] = vz;
+  };
+  add(1.0e12, 2.0e11, 0.0, 0.0, 100.0, 0.0);          // far A
+  add(1.0e12 + 10.0, 2.0e11, 0.0, 0.0, -100.0, 0.0);  // far B, beside A
+  add(-1.0e12, 0.0, 3.0e11, 50.0, 0.0, 0.0);          // far C, alone
+  add(9.0e8, 0.0, 0.0, 0.0, 1000.0, 0.0);             // out at 9 x 10^8 m: in the grid
+  add(7.0e6, 0.0, 0.0, 3.0e4, 0.0, 0.0);              // 30 km/s through the cloud: oversized
+  const std::uint32_t far_a = static_cast<std::uint32_t>(cloud), fast = far_a + 4;
+
+  const int saved = omp_get_max_threads();
+  ThresholdShare shares;
+  shares.fixed_m = share;
+  std::set<std::pair<std::uint32_t, std::uint32_t>> first;
+  BroadPhaseGrid cloud_only;
+  StateArrays cloud_states = dense_population(2000, 4.0e5, 8);
+  omp_set_num_threads(1);
+  cloud_only.build(StepEnds{0.0, dt, &cloud_states, &cloud_states}, NarrowPhase::kLinear, shares,
+                   BroadPhaseGrid::cutoff_bound_m(dt, share));
+  for (int threads : {1, 4}) {
+    omp_set_num_threads(threads);
+    BroadPhaseGrid grid;
+    grid.build(StepEnds{0.0, dt, &s, &s}, NarrowPhase::kLinear, shares,
+               BroadPhaseGrid::cutoff_bound_m(dt, share));
+    ASSERT_EQ(grid.oversized_count(), 4u) << threads << " threads";
+    // The cell fits the cloud's boxes, as without the far objects (theirs would be ~480 km).
+    EXPECT_EQ(grid.cell_size_m(), cloud_only.cell_size_m()) << threads << " threads";
+    EXPECT_LT(grid.cell_size_m(), 3.0e5);
+    std::vector<CandidatePair> out;
+    grid.collect_oversized_pairs(0, grid.oversized_count(), out);
+    std::set<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    std::size_t with_fast = 0;
+    for (const CandidatePair& p : out) {
+      pairs.insert({std::min(p.i, p.j), std::max(p.i, p.j)});
+      with_fast += p.i == fast || p.j == fast;
+    }
+    EXPECT_EQ(pairs.size(), out.size()) << "a pair listed twice";
+    EXPECT_EQ(pairs.count({far_a, far_a + 1}), 1u) << "the far pair";
+    EXPECT_EQ(out.size(), with_fast + 1) << "a far object met something out of its reach";
+    // The fast object meets exactly the cloud's objects whose boxes overlap its own.
+    const Box fast_box = line_box(s, fast, dt, share);
+    std::size_t expected = 0;
+    for (std::uint32_t j = 0; j < cloud; ++j) {
+      const bool listed = pairs.count({j, fast}) > 0;
+      if (overlap(fast_box, line_box(s, j, dt, share))) {
+        ++expected;
+        EXPECT_TRUE(listed) << "missed " << j;
+      } else if (listed) {
+        EXPECT_TRUE(overlap(line_box(s, fast, dt, share + 3.0), line_box(s, j, dt, share + 3.0)))
+            << "apart but listed " << j;
+      }
+    }
+    EXPECT_GT(expected, 20u);
+    EXPECT_LE(with_fast, expected + 2);
+    if (threads == 1)
+      first = pairs;
+    else
+      EXPECT_EQ(pairs, first);
+  }
+  omp_set_num_threads(saved);
+}
+
 }  // namespace
 }  // namespace kessler
