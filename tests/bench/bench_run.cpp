@@ -58,14 +58,14 @@ std::int64_t peak_rss_bytes() {
   return static_cast<std::int64_t>(usage.ru_maxrss) * 1024;  // Linux reports kilobytes
 }
 
-// The project's detector, and how evenly its grid's regions of space share the objects: after each
-// scan, the slots of the fullest region over the mean (1 = even). A region's thread sorts its slots
-// alone and walks them first, so a full region holds the team up. The figure depends only on the
-// population and the team's size, not on timing: a team of 16 on a 2-core machine gives the 16-core
-// machine's.
-class RegionBalanceScanner final : public EncounterScanner {
+// The project's detector, and figures of its grid after each scan: the cell edges, and how evenly the
+// regions of space share the objects (the slots of the fullest region over the mean, 1 = even). A region's
+// thread sorts its slots alone and walks them first, so a full region holds the team up. The figure depends
+// only on the population and the team's size, not on timing: a team of 16 on a 2-core machine gives the
+// 16-core machine's.
+class GridFiguresScanner final : public EncounterScanner {
  public:
-  RegionBalanceScanner(const ConjunctionSettings& settings, std::size_t team)
+  GridFiguresScanner(const ConjunctionSettings& settings, std::size_t team)
       : detector_(settings), team_(team) {}
   void scan(const Population& population, const StepEnds& step, std::vector<Encounter>& out) override {
     detector_.scan(population, step, out);
@@ -293,11 +293,11 @@ int run(int argc, char** argv) {
   double wall = 0.0, cpu = 0.0, integrator_cpu = 0.0, detection_cpu = 0.0, fullest_region = 0.0,
          cell_km = 0.0, column_km = 0.0;
   SimulationParts parts = default_parts(config, std::move(propagator));
-  RegionBalanceScanner* region_balance = nullptr;
+  GridFiguresScanner* grid_figures = nullptr;
   if (parts.scanner) {
     auto scanner =
-        std::make_unique<RegionBalanceScanner>(config.conjunctions, static_cast<std::size_t>(threads));
-    region_balance = scanner.get();
+        std::make_unique<GridFiguresScanner>(config.conjunctions, static_cast<std::size_t>(threads));
+    grid_figures = scanner.get();
     parts.scanner = std::move(scanner);
   }
   // The per-part CPU clocks read the whole process's CPU time (a system call that visits every thread,
@@ -333,10 +333,10 @@ int run(int argc, char** argv) {
     // Read while the simulation (which owns the parts) lives.
     integrator_cpu = propagator_cpu ? propagator_cpu->cpu_s : 0.0;
     detection_cpu = scanner_cpu ? scanner_cpu->cpu_s : 0.0;
-    if (region_balance) {
-      fullest_region = region_balance->fullest_region_over_mean();
-      cell_km = region_balance->mean_cell_km();
-      column_km = region_balance->mean_column_km();
+    if (grid_figures) {
+      fullest_region = grid_figures->fullest_region_over_mean();
+      cell_km = grid_figures->mean_cell_km();
+      column_km = grid_figures->mean_column_km();
     }
   } catch (const std::exception& e) {
     std::cerr << "kessler-bench run: " << e.what() << "\n";
@@ -417,7 +417,7 @@ int run(int argc, char** argv) {
       timeline->enable(false);
     }
   }
-  if (region_balance) line.add("grid_cell_km_mean", cell_km).add("grid_column_km_mean", column_km);
+  if (grid_figures) line.add("grid_cell_km_mean", cell_km).add("grid_column_km_mean", column_km);
   if (threads >= 2) line.add("fullest_region_over_mean", fullest_region);
   if (threads >= 2) add_cross_core(line);  // where the host put the cores: 2-thread figures follow it
   line.print();

@@ -256,6 +256,7 @@ TEST(BroadPhaseGrid, FarOutObjectsStayOutOfTheGridAndMeetOnlyWhatTheirBoxesReach
   // object too fast for any orbit, in the middle of the cloud, meets every object its box overlaps.
   const double dt = 30.0, share = 5000.0;
   StateArrays s = dense_population(2000, 4.0e5, 8);
+  const StateArrays cloud_states = s;
   const std::size_t cloud = s.size();
   auto add = [&](double x, double y, double z, double vx, double vy, double vz) {
     s.resize(s.size() + 1);
@@ -274,7 +275,6 @@ TEST(BroadPhaseGrid, FarOutObjectsStayOutOfTheGridAndMeetOnlyWhatTheirBoxesReach
   shares.fixed_m = share;
   std::set<std::pair<std::uint32_t, std::uint32_t>> first;
   BroadPhaseGrid cloud_only;
-  StateArrays cloud_states = dense_population(2000, 4.0e5, 8);
   omp_set_num_threads(1);
   cloud_only.build(StepEnds{0.0, dt, &cloud_states, &cloud_states}, NarrowPhase::kLinear, shares,
                    BroadPhaseGrid::cutoff_bound_m(dt, share));
