@@ -59,20 +59,19 @@ class TeamTimeline {
   }
 
   const std::vector<std::string>& segments() const { return names_; }
-  // Segment s's seconds, summed over the run: the mean and the largest over the threads.
-  std::pair<double, double> mean_and_max(int s) const {
-    double sum = 0.0, most = 0.0;
-    for (const PerThread& p : threads_) {
-      sum += p.sum[s];
-      most = std::max(most, p.sum[s]);
-    }
-    return {threads_.empty() ? 0.0 : sum / static_cast<double>(threads_.size()), most};
-  }
   // Segment s's seconds for each thread, summed over the run.
   std::vector<double> per_thread(int s) const {
     std::vector<double> seconds;
     for (const PerThread& p : threads_) seconds.push_back(p.sum[s]);
     return seconds;
+  }
+  // The same: the mean and the largest over the threads.
+  std::pair<double, double> mean_and_max(int s) const {
+    const std::vector<double> seconds = per_thread(s);
+    if (seconds.empty()) return {0.0, 0.0};
+    double sum = 0.0;
+    for (const double t : seconds) sum += t;
+    return {sum / static_cast<double>(seconds.size()), *std::max_element(seconds.begin(), seconds.end())};
   }
 
  private:
