@@ -61,6 +61,8 @@ Population leo19647_repeated(const std::string& dir, std::size_t objects);
 // 2-thread figures follow the placement (kessler-bench cores). `team` is the team OpenMP gave.
 struct CrossCoreCost {
   double read_own_ns = 0.0, read_other_ns = 0.0, write_private_ns = 0.0, write_shared_ns = 0.0;
+  // The same shared write with streaming stores (whole lines, past the cache; 0 without AVX-512).
+  double write_shared_streamed_ns = 0.0;
   int team = 0;
   double read_ratio() const { return read_other_ns / read_own_ns; }
   double write_ratio() const { return write_shared_ns / write_private_ns; }

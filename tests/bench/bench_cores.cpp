@@ -3,7 +3,8 @@
 // the host may place the two virtual cores on one shared cache or far apart, and the figure changes
 // with the placement (minutes apart on the development machine: 0.9 vs 3.5 ns per line read). Run it
 // beside any 2-thread measurement. It also times the grid's pattern on private data on both cores at
-// once against one alone (private_streaming_ratio), which tells memory contention from shared lines.
+// once against one alone (private_streaming_ratio), which tells memory contention from shared lines,
+// and the shared write with streaming stores, which skip taking the line back from the other core.
 //   --lines N (default 16384: 1 MiB)  --repeats R (default 10; the streaming ratio takes at least 30)
 #include <omp.h>
 
@@ -15,6 +16,10 @@
 #include <vector>
 
 #include "tests/bench/bench.hpp"
+
+#ifdef __AVX512F__
+#include <immintrin.h>
+#endif
 
 namespace kessler::bench {
 namespace {
@@ -43,8 +48,8 @@ CrossCoreCost measure_cross_core(std::size_t lines, int repeats) {
 
   // Per repeat: the writer fills every line, then thread 0 reads them in random order (independent
   // loads, as a walk over neighbour cells does) or writes them in sequence after thread 1 has read
-  // them (as the next step's sort does).
-  enum Case { kReadOwn, kReadOther, kWritePrivate, kWriteShared, kCases };
+  // them (as the next step's sort does), with plain or with streaming stores.
+  enum Case { kReadOwn, kReadOther, kWritePrivate, kWriteShared, kWriteSharedStreamed, kCases };
   std::vector<double> seconds[kCases];
   std::uint64_t sink = 0;
   int team = 0;
@@ -60,7 +65,7 @@ CrossCoreCost measure_cross_core(std::size_t lines, int repeats) {
         if (t == writer)
           for (std::size_t i = 0; i < lines; ++i) data[i].word[0] = i + static_cast<std::size_t>(rep);
 #pragma omp barrier
-        if (c == kWriteShared && t == 1)
+        if ((c == kWriteShared || c == kWriteSharedStreamed) && t == 1)
           for (std::size_t i = 0; i < lines; ++i) sink += data[i].word[0];
 #pragma omp barrier
         if (t == 0) {
@@ -69,6 +74,13 @@ CrossCoreCost measure_cross_core(std::size_t lines, int repeats) {
             std::uint64_t sum = 0;
             for (std::size_t i = 0; i < lines; ++i) sum += data[order[i]].word[0];
             sink += sum;
+          } else if (c == kWriteSharedStreamed) {
+#ifdef __AVX512F__
+            for (std::size_t i = 0; i < lines; ++i)
+              _mm512_stream_si512(reinterpret_cast<__m512i*>(&data[i]),
+                                  _mm512_set_epi64(0, 0, 0, 0, 0, 0, 0, static_cast<long long>(i)));
+            _mm_sfence();
+#endif
           } else {
             for (std::size_t i = 0; i < lines; ++i) data[i].word[0] = i;
           }
@@ -85,6 +97,9 @@ CrossCoreCost measure_cross_core(std::size_t lines, int repeats) {
   cost.read_other_ns = ns_per_line(kReadOther);
   cost.write_private_ns = ns_per_line(kWritePrivate);
   cost.write_shared_ns = ns_per_line(kWriteShared);
+#ifdef __AVX512F__
+  cost.write_shared_streamed_ns = ns_per_line(kWriteSharedStreamed);
+#endif
   read_sink = sink;
   return cost;
 }
@@ -167,9 +182,10 @@ int bench_cores(int argc, char** argv) {
   std::printf(
       "cores: %zu lines, medians of %d: random read %.2f ns/line (own) vs %.2f (written by the other "
       "core): %.1fx; sequential write %.2f (private) vs %.2f (read by the other core): %.1fx; private "
-      "streaming, both cores at once over one alone: %.2fx\n",
+      "streaming, both cores at once over one alone: %.2fx; the shared write with streaming stores "
+      "%.2f\n",
       lines, repeats, cost.read_own_ns, cost.read_other_ns, cost.read_ratio(), cost.write_private_ns,
-      cost.write_shared_ns, cost.write_ratio(), streaming);
+      cost.write_shared_ns, cost.write_ratio(), streaming, cost.write_shared_streamed_ns);
   JsonLine()
       .add("benchmark", std::string("cores"))
       .add("lines", static_cast<std::int64_t>(lines))
@@ -181,6 +197,7 @@ int bench_cores(int argc, char** argv) {
       .add("write_shared_ns_per_line", cost.write_shared_ns)
       .add("write_shared_ratio", cost.write_ratio())
       .add("private_streaming_together_ratio", streaming)
+      .add("write_shared_streamed_ns_per_line", cost.write_shared_streamed_ns)
       .print();
   return 0;
 }
