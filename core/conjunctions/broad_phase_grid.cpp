@@ -738,14 +738,18 @@ void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
     const std::size_t i = oversized_[o];
     const float a_lo_x = lo_x[i], a_lo_y = lo_y[i], a_lo_z = lo_z[i];
     const float a_hi_x = hi_x[i], a_hi_y = hi_y[i], a_hi_z = hi_z[i];
+    // Whether object j's box overlaps object i's (bitwise ands: no branches in the vector lanes).
+    auto overlaps = [&](std::size_t j) {
+      return (a_lo_x <= hi_x[j]) & (lo_x[j] <= a_hi_x) & (a_lo_y <= hi_y[j]) & (lo_y[j] <= a_hi_y) &
+             (a_lo_z <= hi_z[j]) & (lo_z[j] <= a_hi_z);
+    };
     if (!(a_lo_x <= kFarOut_m && -kFarOut_m <= a_hi_x && a_lo_y <= kFarOut_m && -kFarOut_m <= a_hi_y &&
           a_lo_z <= kFarOut_m && -kFarOut_m <= a_hi_z)) {
       // Its box misses the cube that holds every grid box (far out): only the later oversized objects
       // can meet it, in the order the scan below would find them.
       for (std::size_t p = o + 1; p < oversized_.size(); ++p) {
         const std::size_t j = oversized_[p];
-        if (a_lo_x <= hi_x[j] && lo_x[j] <= a_hi_x && a_lo_y <= hi_y[j] && lo_y[j] <= a_hi_y &&
-            a_lo_z <= hi_z[j] && lo_z[j] <= a_hi_z)
+        if (overlaps(j))
           out.push_back(CandidatePair{static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)});
       }
       continue;
@@ -754,11 +758,7 @@ void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
       const std::size_t m = std::min(kBlock, n - j0);
       std::fill(hit + m, hit + kBlock, 0);
 #pragma omp simd
-      for (std::size_t d = 0; d < m; ++d) {
-        const std::size_t j = j0 + d;
-        hit[d] = (a_lo_x <= hi_x[j]) & (lo_x[j] <= a_hi_x) & (a_lo_y <= hi_y[j]) & (lo_y[j] <= a_hi_y) &
-                 (a_lo_z <= hi_z[j]) & (lo_z[j] <= a_hi_z);
-      }
+      for (std::size_t d = 0; d < m; ++d) hit[d] = overlaps(j0 + d);
       for (std::size_t w = 0; w < m; w += 8) {
         std::uint64_t word;
         std::memcpy(&word, hit + w, sizeof word);
