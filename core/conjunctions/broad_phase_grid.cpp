@@ -314,18 +314,13 @@ void BroadPhaseGrid::prepare(std::size_t n, int threads) {
   box_key_.resize(n);
   box_bucket_.resize(n);
   box_crosses_.resize(n);
-  slot_index_.resize(n);
-  slot_chord_.resize(n + kLanes);
   for (auto& axis : box_lo_) axis.resize(n);
   for (auto& axis : box_hi_) axis.resize(n);
   box_reach_.resize(n);
   box_flags_.resize(n);
   hull_.resize(n);
-  for (auto& axis : slot_box_) axis.resize(n + kLanes);
-  slot_key_.resize(n);
-  slot_crosses_.resize(n);
   oversized_flag_.resize(n);
-  scratch_.resize(n);
+  ensure_slot_capacity(n);
   // One region per thread (at most kMaxRegions). At least 2 buckets per object in all, a power of two
   // per region: occupied cells hold 4-8 objects where the coarsening can reach that (load ~1/16), and
   // one object at worst (load <= 1/2); the occupancy bitmap makes empty buckets cheap. Each step the
@@ -367,6 +362,19 @@ void BroadPhaseGrid::prepare(std::size_t n, int threads) {
   prepared_threads_ = team;
 }
 
+void BroadPhaseGrid::ensure_slot_capacity(std::size_t slots) {
+  if (slots <= slot_capacity_) return;
+  // Room for ghosts beyond the objects (a few per cent of them with 2 threads), so that the arrays
+  // seldom grow again.
+  slot_capacity_ = slots + slots / 8;
+  for (auto& axis : slot_box_) axis.resize(slot_capacity_ + kLanes);
+  slot_chord_.resize(slot_capacity_ + kLanes);
+  slot_key_.resize(slot_capacity_);
+  slot_crosses_.resize(slot_capacity_);
+  slot_index_.resize(slot_capacity_);
+  scratch_.resize(slot_capacity_);
+}
+
 void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const ThresholdShare& share,
                            double max_motion_m, bool with_hulls) {
   const std::size_t n = step.start->size();
@@ -402,6 +410,8 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   // The cell edges guessed from the last step (read by every thread before anyone may change them):
   // along y and z, and the columns' along x (no larger).
   const double guess = next_cell_m_, guess_column = next_column_m_;
+  // Read before the first barrier: a thread that reads it later may find it grown by another.
+  const std::size_t slot_capacity = slot_capacity_;
   std::uint32_t* counts = &coarse_count_[t * partitions];
   std::vector<std::uint32_t>& my_oversized = thread_oversized_[t];
 
@@ -429,10 +439,23 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     for (std::size_t s = 0; s + 1 < regions; ++s)
       map.first_column[s] =
           static_cast<std::uint32_t>(axis_cell(borders_m[s] + 0.5 * column, inverse_column));
-    key_boxes(inverse_column, 1.0 / cell, map, begin, end);
     std::uint32_t local_counts[kMaxPartitions] = {};
-    for (std::size_t i = begin; i < end; ++i)
-      if (!oversized_flag_[i]) ++local_counts[box_bucket_[i] >> fine_bits_];
+    if (regions > 1) {
+      // Two regions (2 threads) have one border to compare with.
+      if (regions == 2)
+        key_boxes<1>(inverse_column, 1.0 / cell, map, begin, end);
+      else
+        key_boxes<kMaxRegions - 1>(inverse_column, 1.0 / cell, map, begin, end);
+      for (std::size_t i = begin; i < end; ++i) {
+        if (oversized_flag_[i]) continue;
+        ++local_counts[box_bucket_[i] >> fine_bits_];
+        if (box_crosses_[i] & kGhosted) ++local_counts[ghost_bucket_of(box_key_[i], map) >> fine_bits_];
+      }
+    } else {
+      key_boxes<0>(inverse_column, 1.0 / cell, map, begin, end);
+      for (std::size_t i = begin; i < end; ++i)
+        if (!oversized_flag_[i]) ++local_counts[box_bucket_[i] >> fine_bits_];
+    }
     std::copy(local_counts, local_counts + partitions, counts);
   };
 
@@ -530,13 +553,17 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   // order within each bucket, whatever the thread count). Every thread reads all counts and computes
   // the layout itself (no serial section).
   const std::size_t p_begin = partitions * t / threads, p_end = partitions * (t + 1) / threads;
-  {
-    std::uint32_t running = 0;
-    for (std::size_t p = 0; p < partitions; ++p) {
-      if (p >= p_begin && p < p_end) partition_start_[p] = running;  // each thread writes its own
-      for (std::size_t u = 0; u < threads; ++u) running += coarse_count_[u * partitions + p];
-    }
-    if (t + 1 == threads) bucket_start_[buckets] = running;
+  std::uint32_t total_slots = 0;  // objects in the grid and ghosts
+  for (std::size_t p = 0; p < partitions; ++p) {
+    if (p >= p_begin && p < p_end) partition_start_[p] = total_slots;  // each thread writes its own
+    for (std::size_t u = 0; u < threads; ++u) total_slots += coarse_count_[u * partitions + p];
+  }
+  if (t + 1 == threads) bucket_start_[buckets] = total_slots;
+  if (total_slots > slot_capacity) {
+    // More ghosts than the arrays have room for (every thread sees the same total and capacity, so all
+    // of them come here): nobody reads or writes the arrays until the scatter below.
+#pragma omp single
+    ensure_slot_capacity(total_slots);
   }
   if (t == 0) {
     cell_size_m_ = cell;
@@ -568,7 +595,6 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     };
     next_cell_m_ = keep_or(cell, wanted);
     next_column_m_ = keep_or(column, wanted_column);
-    region_map_ = map;
     if (regions > 1) {
       hist_origin_m_ = bin_origin;  // the bins this build's histogram is made of
       hist_width_m_ = bin_width;
@@ -609,10 +635,18 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
           box.lo[k] = box_lo_[k][i];
           box.hi[k] = box_hi_[k][i];
         }
-        box.crosses = box_crosses_[i];
+        const std::uint32_t crosses = box_crosses_[i];
         box.index = static_cast<std::uint32_t>(i);
         box.key = box_key_[i];
         box.chord = chord_word(box_reach_[i], box_flags_[i] & kChordEndsMask);
+        if (crosses & kGhosted) {  // a few per cent of the boxes, with 2 regions
+          box.crosses = (crosses & ~kGhosted) | kGhost;
+          box.bucket = static_cast<std::uint32_t>(ghost_bucket_of(box.key, map));
+          scratch_[cursor[box.bucket >> fine_bits_]++] = box;
+          box.crosses = crosses & ~(kGhosted | kCrossesX);
+        } else {
+          box.crosses = crosses;
+        }
         box.bucket = box_bucket_[i];
         scratch_[cursor[box.bucket >> fine_bits_]++] = box;
       }
@@ -631,7 +665,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     oversized_.clear();
     for (std::size_t u = 0; u < threads; ++u)
       oversized_.insert(oversized_.end(), thread_oversized_[u].begin(), thread_oversized_[u].end());
-    slots_in_grid_ = n - oversized_.size();
+    slots_in_grid_ = total_slots;
   }
   // Each thread sorts a contiguous run of partitions by fine bucket (stable), so the slot arrays'
   // lines are written by one thread each (no line shared but at the run's two ends).
@@ -691,6 +725,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   timeline.mark(t, kDetWaitSort);
 }
 
+template <std::size_t kBorders>
 void BroadPhaseGrid::key_boxes(double inverse_column_m, double inverse_cell_m, const RegionMap& regions,
                                std::size_t begin, std::size_t end) {
   // Local restrict copies of every pointer and value, so the loop vectorises (see grow_boxes).
@@ -712,10 +747,19 @@ void BroadPhaseGrid::key_boxes(double inverse_column_m, double inverse_cell_m, c
     keys[i] = key;
     // Monotone cells: a box whose upper corner is in its lower corner's cell along an axis lies below
     // every lower corner of a later cell on that axis.
-    crosses[i] = static_cast<std::uint8_t>((axis_cell(hi_x[i], inverse_column_m) != cx ? 1u : 0u) |
-                                           (axis_cell(hi_y[i], inverse_cell_m) != cy ? 2u : 0u) |
-                                           (axis_cell(hi_z[i], inverse_cell_m) != cz ? 4u : 0u));
-    buckets[i] = static_cast<std::uint32_t>(bucket_of(key, map));
+    const bool crosses_x = axis_cell(hi_x[i], inverse_column_m) != cx;
+    const std::uint32_t bits = (crosses_x ? kCrossesX : 0u) |
+                               (axis_cell(hi_y[i], inverse_cell_m) != cy ? 2u : 0u) |
+                               (axis_cell(hi_z[i], inverse_cell_m) != cz ? 4u : 0u);
+    if constexpr (kBorders > 0) {
+      const std::uint64_t region = map.region_of<kBorders>(cx);
+      const bool ghosted = crosses_x && map.region_of<kBorders>(cx + 1) != region;
+      crosses[i] = static_cast<std::uint8_t>(bits | (ghosted ? kGhosted : 0u));
+      buckets[i] = static_cast<std::uint32_t>((region << map.region_bits) | bucket_in_region(key));
+    } else {
+      crosses[i] = static_cast<std::uint8_t>(bits);
+      buckets[i] = static_cast<std::uint32_t>(bucket_in_region(key));
+    }
   }
 }
 
@@ -1036,48 +1080,45 @@ void BroadPhaseGrid::collect_pairs(std::size_t slot_begin, std::size_t slot_end,
                                    std::vector<CandidatePair>& out) const {
   HitBatch hits;
   if (regions_ == 1) {
-    collect_pairs_in<false>(slot_begin, slot_end, 0, 0, hits, out);
+    collect_pairs_in(slot_begin, slot_end, 0, hits, out);
   } else {
-    // Region by region (each holds a contiguous run of slots): the slots' region is then known, and
-    // only those in its last column look the next column's region up.
+    // Region by region (each holds a contiguous run of slots, its ghosts among them), so the region of
+    // every row a slot looks up is known.
     for (std::size_t r = 0; r < regions_; ++r) {
       const std::size_t region = r << region_bits_;
       const std::size_t first = std::max<std::size_t>(slot_begin, bucket_start_[region]);
       const std::size_t last = std::min<std::size_t>(slot_end, bucket_start_[region + region_mask_ + 1]);
-      if (first < last) collect_pairs_in<true>(first, last, region, region_map_.first_column[r], hits, out);
+      if (first < last) collect_pairs_in(first, last, region, hits, out);
     }
   }
   filter_hits(hits, out);
 }
 
-template <bool kRegions>
 void BroadPhaseGrid::collect_pairs_in(std::size_t slot_begin, std::size_t slot_end, std::size_t region,
-                                      std::uint64_t next_region_column, HitBatch& hits,
-                                      std::vector<CandidatePair>& out) const {
+                                      HitBatch& hits, std::vector<CandidatePair>& out) const {
   for (std::size_t k = slot_begin; k < slot_end; ++k) {
     const std::uint64_t key = slot_key_[k];
     const std::uint32_t crosses = slot_crosses_[k];
     // z cells of a neighbour row: z - 1 and z, and z + 1 only if the box reaches into the next z cell.
     const std::size_t z_cells = (crosses & 4u) ? 3 : 2;
-    // The region of the next column: another one only from the region's last column.
-    std::size_t next_region = region;
-    if constexpr (kRegions) {
-      const std::uint64_t next_column = column_of(key) + 1;
-      if (next_column >= next_region_column) next_region = region_map_.base(next_column);
-    }
+    // A ghost walks only the next column's rows (1-3): its own column's are its box's, in the last
+    // region. `walks` has kGhost set for the slots that walk their own column.
+    const std::uint32_t walks = crosses ^ kGhost;
     // Own row: the same cell (slots after k) and the next z cell, in buckets b and b + 1.
-    pair_with_buckets(k, region, bucket_in_region(key), z_cells - 1, k + 1, key, 1, hits, out);
+    if (walks & kGhost)
+      pair_with_buckets(k, region, bucket_in_region(key), z_cells - 1, k + 1, key, 1, hits, out);
     // The forward rows, z cells -1..+1: buckets b' - 1 .. b' + 1. Rows at y + 1 only if the box
-    // reaches into the next y cell, rows at x + 1 only if it reaches into the next x cell.
+    // reaches into the next y cell, rows at x + 1 only if it reaches into the next x cell (in this
+    // region: a box whose next column is another region's has dropped kCrossesX, and its ghost there
+    // walks those rows).
     for (int r = 0; r < 4; ++r) {
-      const std::uint32_t needs = kForwardRowNeeds[r];
-      if ((crosses & needs) != needs) continue;
+      const std::uint32_t needs = kForwardRowNeeds[r] | (r == 0 ? kGhost : 0u);
+      if ((walks & needs) != needs) continue;
       const std::uint64_t centre = key + kForwardRows[r];
-      const std::size_t row_region = r == 0 ? region : next_region;  // row 0 is (0, +1)
       const std::size_t first = (bucket_in_region(centre) - 1) & region_mask_;
       // Many neighbour rows are empty: the occupancy bitmap answers.
-      if (!any_occupied(row_region, first, z_cells)) continue;
-      pair_with_buckets(k, row_region, first, z_cells, 0, centre - 1, z_cells - 1, hits, out);
+      if (!any_occupied(region, first, z_cells)) continue;
+      pair_with_buckets(k, region, first, z_cells, 0, centre - 1, z_cells - 1, hits, out);
     }
   }
 }

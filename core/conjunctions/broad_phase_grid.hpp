@@ -51,7 +51,13 @@
 // are in the same region: the walk reads slot lines its own core wrote in the sort, and the next sort
 // rewrites lines only its own core read. (With one hash over all buckets, a neighbour row belonged to
 // any thread: 2 threads on cores that share no cache spent 1.6x their share of the sort and 1.3x of
-// the walk fetching and invalidating each other's lines.) The borders between the slabs hold equal
+// the walk fetching and invalidating each other's lines.) The rows of the next column across a border
+// are the other region's: a box of a region's last column that reaches into the next column gets a
+// copy (a ghost) sorted into the next region, under its own cell key, and that region walks the ghost's
+// next-column rows, on its own lines; the box itself walks only its own column's. (Walked from the
+// last column, the border's rows took the other core's bucket-table and slot lines, and its next sort
+// took them back: 2 threads far apart sorted 81 ms a thread against 64 for the one whose rows were not
+// read, leo-19647's quarter day.) The borders between the slabs hold equal
 // shares of the objects: quantiles of a histogram of the lower x corners of the last build's boxes
 // (every 4th object; a first build, which keys after the barrier anyway, takes its own), each moved to
 // the nearest column edge; the histogram's bins span the last one's central 99 %, since catalogs hold
@@ -141,8 +147,9 @@ class BroadPhaseGrid {
   void build(const StepEnds& step, NarrowPhase motion, const ThresholdShare& share, double max_motion_m,
              bool with_hulls = false);
 
-  // Number of slots (objects in bucket order); pairs are enumerated per slot range so threads can split
-  // the work. Appends each candidate pair (boxes overlap) whose first member is in [slot_begin, slot_end).
+  // Number of slots (objects in bucket order, and the ghosts of boxes at the regions' borders); pairs are
+  // enumerated per slot range so threads can split the work. Appends each candidate pair (boxes overlap)
+  // whose first member is in [slot_begin, slot_end).
   std::size_t slot_count() const { return slots_in_grid_; }
   // The slots that thread t of a team of `threads` sorted (its region's, when the team is the size the
   // grid was prepared for): walking them first, a thread reads what its own core wrote.
@@ -197,11 +204,9 @@ class BroadPhaseGrid {
     // misses (the same at 2 or 8, measured at 40,000 and 80,000 objects).
     bool dense() const { return 4 * hits_found > groups_tested; }
   };
-  // collect_pairs on slots of the one region starting at bucket `region`, whose next region starts
-  // at cell column next_region_column (kRegions: the grid has more than one region).
-  template <bool kRegions>
-  void collect_pairs_in(std::size_t slot_begin, std::size_t slot_end, std::size_t region,
-                        std::uint64_t next_region_column, HitBatch& hits,
+  // collect_pairs on slots of the one region starting at bucket `region` (ghosts included: every
+  // neighbour row a slot looks up is in its own region).
+  void collect_pairs_in(std::size_t slot_begin, std::size_t slot_end, std::size_t region, HitBatch& hits,
                         std::vector<CandidatePair>& out) const;
   // Appends each hit of the batch that the chord filter keeps and whose key is in range to `out` (in
   // the batch's order), and empties the batch.
@@ -214,31 +219,34 @@ class BroadPhaseGrid {
     // The first cell column of regions 1, 2, ... (padded with the largest value: never reached).
     std::uint32_t first_column[kMaxRegions - 1];
     int region_bits = 0;
-    // The first bucket of the region of cell column `column`: the number of borders at or below it, by
-    // a binary search without branches over all kMaxRegions - 1 borders (the unused ones are the
-    // largest column, never reached), the same four steps for any column (the key pass runs it in
-    // vector lanes).
-    std::uint64_t base(std::uint64_t column) const {
-      static_assert(kMaxRegions == 16);
-      std::uint64_t region = column >= first_column[7] ? 8 : 0;
-      region += column >= first_column[region + 3] ? 4 : 0;
-      region += column >= first_column[region + 1] ? 2 : 0;
-      region += column >= first_column[region] ? 1 : 0;
-      return region << region_bits;
+    // The region of cell column `column`: the number of borders at or below it, counted over the first
+    // kBorders borders (all of them by default: the unused ones are the largest column, never reached).
+    // In the key pass's vector lanes these are compares with constants; a binary search, whose loads
+    // depend on the last step, made four gathers of them and cost more.
+    template <std::size_t kBorders = kMaxRegions - 1>
+    std::uint64_t region_of(std::uint64_t column) const {
+      std::uint64_t region = 0;
+      for (std::size_t s = 0; s < kBorders; ++s) region += column >= first_column[s] ? 1 : 0;
+      return region;
     }
+    // The first bucket of the region of cell column `column`.
+    std::uint64_t base(std::uint64_t column) const { return region_of(column) << region_bits; }
   };
   // Cell keys, buckets and crossing bits (GridBox) of objects [begin, end) from their float boxes, for
   // cells 1 / inverse_column_m wide along x and 1 / inverse_cell_m along y and z: a loop over arrays
-  // that vectorises.
+  // that vectorises. kBorders: the borders between regions it need look at (0: one region, no ghosts).
+  template <std::size_t kBorders>
   void key_boxes(double inverse_column_m, double inverse_cell_m, const RegionMap& regions, std::size_t begin,
                  std::size_t end);
-  // Bucket of a cell: its region's first bucket plus a hash of its row (x, y) plus its z cell, so the
-  // cells of a row along z fall in consecutive buckets of one region (and, sorted by bucket, in
-  // consecutive slots): the three z neighbours of a cell are one contiguous range (wrapping inside the
-  // region), usually on one cache line of the bucket table.
-  std::size_t bucket_of(std::uint64_t cell_key, const RegionMap& regions) const {
-    return regions.base(column_of(cell_key)) | bucket_in_region(cell_key);
+  // The bucket of the ghost of a box whose cell has key `cell_key` (kGhosted): in the region of the next
+  // column, under the box's own key.
+  std::size_t ghost_bucket_of(std::uint64_t cell_key, const RegionMap& regions) const {
+    return regions.base(column_of(cell_key) + 1) | bucket_in_region(cell_key);
   }
+  // A cell's bucket is its region's first bucket (RegionMap::base) plus bucket_in_region: a hash of its
+  // row (x, y) plus its z cell, so the cells of a row along z fall in consecutive buckets of one region
+  // (and, sorted by bucket, in consecutive slots): the three z neighbours of a cell are one contiguous
+  // range (wrapping inside the region), usually on one cache line of the bucket table.
   static std::uint64_t column_of(std::uint64_t cell_key) { return cell_key >> (2 * kRowShift); }
   // A cell's bucket counted from its region's first.
   std::size_t bucket_in_region(std::uint64_t cell_key) const {
@@ -277,19 +285,23 @@ class BroadPhaseGrid {
   static constexpr int kRowShift = 21;
   static constexpr std::uint64_t kZMask = (std::uint64_t{1} << kRowShift) - 1;
 
+  // Crossing bits. Bits 0-2 (kCrossesX, y, z): the axes the box crosses into the next cell on. A box
+  // that stays in its cell along an axis cannot overlap a box whose lower corner lies in a later cell on
+  // that axis, so the walk skips those forward neighbours (exact: the same candidates, fewer cells
+  // visited). kGhosted (key pass only): it crosses in x into another region's column, so it gets a
+  // ghost there, and its own slot drops kCrossesX (its next-column rows are the ghost's). kGhost (slots
+  // only): the slot is such a ghost, which walks only the next-column rows.
+  static constexpr std::uint32_t kCrossesX = 1, kGhosted = 8, kGhost = 16;
   // One object's grown box (rounded outwards to floats), cell key, bucket, population index and chord
   // word: 48 bytes, and the whole record the sort moves, so sorting never reads another thread's boxes at
   // random.
   struct GridBox {
     float lo[3], hi[3];
-    // Which axes the box crosses into the next cell on (bit 0: x, 1: y, 2: z). A box that stays in its
-    // cell along an axis cannot overlap a box whose lower corner lies in a later cell on that axis, so
-    // the walk skips those forward neighbours (exact: the same candidates, fewer cells visited).
-    std::uint32_t crosses;
+    std::uint32_t crosses;  // crossing bits
     std::uint32_t index;
     std::uint64_t key;
     std::uint32_t chord;   // chord_word
-    std::uint32_t bucket;  // bucket_of(key), kept for the scatter and the sort
+    std::uint32_t bucket;  // its cell's (a ghost's: ghost_bucket_of), kept for the scatter and the sort
   };
   static_assert(sizeof(GridBox) == 48);
 
@@ -302,7 +314,6 @@ class BroadPhaseGrid {
   double coarsening_ = 1.0;
   std::size_t regions_ = 1, region_mask_ = 0, partitions_ = 1;
   int region_bits_ = 0, fine_bits_ = 0;
-  RegionMap region_map_;  // this build's, for the walk
   // Where the regions' borders go: a histogram of the lower x corners of the last build's boxes
   // (kHistogramBins bins of hist_width_m_ from hist_origin_m_), summed over the threads. Its own
   // central range gives the next one's bins; the first spans the paper's domain.
@@ -312,7 +323,10 @@ class BroadPhaseGrid {
   double hist_origin_m_ = kDefaultBinOrigin_m, hist_width_m_ = kDefaultBinWidth_m;
   std::vector<std::uint32_t> thread_hist_;  // per thread: its chunk's histogram
   std::size_t prepared_threads_ = 0;
-  std::size_t slots_in_grid_ = 0;
+  std::size_t slots_in_grid_ = 0;  // objects in the grid plus ghosts
+  // Slots the slot arrays and scratch_ have room for (ghosts make them more than the objects).
+  std::size_t slot_capacity_ = 0;
+  void ensure_slot_capacity(std::size_t slots);
   // The box and key passes' output per object (population index), arrays so that the passes vectorise:
   // the grown box rounded to floats, the chord filter's reach and direction bits, the oversized flag;
   // the cell key, bucket and crossing bits (the scatter assembles them into GridBox records).
