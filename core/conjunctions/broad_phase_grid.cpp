@@ -639,7 +639,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
         box.index = static_cast<std::uint32_t>(i);
         box.key = box_key_[i];
         box.chord = chord_word(box_reach_[i], box_flags_[i] & kChordEndsMask);
-        if (crosses & kGhosted) {  // a few per cent of the boxes, with 2 regions
+        if (crosses & kGhosted) {  // about 1 % of the boxes with 2 regions
           box.crosses = (crosses & ~kGhosted) | kGhost;
           box.bucket = static_cast<std::uint32_t>(ghost_bucket_of(box.key, map));
           scratch_[cursor[box.bucket >> fine_bits_]++] = box;
