@@ -364,8 +364,8 @@ void BroadPhaseGrid::prepare(std::size_t n, int threads) {
 
 void BroadPhaseGrid::ensure_slot_capacity(std::size_t slots) {
   if (slots <= slot_capacity_) return;
-  // Room for ghosts beyond the objects (a few per cent of them with 2 threads), so that the arrays
-  // seldom grow again.
+  // Room for ghosts beyond the objects (about 1 % of them with 2 threads, more with more regions), so
+  // that the arrays seldom grow again.
   slot_capacity_ = slots + slots / 8;
   for (auto& axis : slot_box_) axis.resize(slot_capacity_ + kLanes);
   slot_chord_.resize(slot_capacity_ + kLanes);
@@ -439,22 +439,20 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     for (std::size_t s = 0; s + 1 < regions; ++s)
       map.first_column[s] =
           static_cast<std::uint32_t>(axis_cell(borders_m[s] + 0.5 * column, inverse_column));
-    std::uint32_t local_counts[kMaxPartitions] = {};
-    if (regions > 1) {
-      // Two regions (2 threads) have one border to compare with.
-      if (regions == 2)
-        key_boxes<1>(inverse_column, 1.0 / cell, map, begin, end);
-      else
-        key_boxes<kMaxRegions - 1>(inverse_column, 1.0 / cell, map, begin, end);
-      for (std::size_t i = begin; i < end; ++i) {
-        if (oversized_flag_[i]) continue;
-        ++local_counts[box_bucket_[i] >> fine_bits_];
-        if (box_crosses_[i] & kGhosted) ++local_counts[ghost_bucket_of(box_key_[i], map) >> fine_bits_];
-      }
-    } else {
+    // The borders the key pass compares with: none with one region, one with two (2 threads), else all.
+    if (regions == 1)
       key_boxes<0>(inverse_column, 1.0 / cell, map, begin, end);
-      for (std::size_t i = begin; i < end; ++i)
-        if (!oversized_flag_[i]) ++local_counts[box_bucket_[i] >> fine_bits_];
+    else if (regions == 2)
+      key_boxes<1>(inverse_column, 1.0 / cell, map, begin, end);
+    else
+      key_boxes<kMaxRegions - 1>(inverse_column, 1.0 / cell, map, begin, end);
+    std::uint32_t local_counts[kMaxPartitions] = {};
+    for (std::size_t i = begin; i < end; ++i) {
+      if (oversized_flag_[i]) continue;
+      ++local_counts[box_bucket_[i] >> fine_bits_];
+      // (Only several regions have ghosts: one thread never reads the crossing bits here.)
+      if (regions > 1 && (box_crosses_[i] & kGhosted))
+        ++local_counts[ghost_bucket_of(box_key_[i], map) >> fine_bits_];
     }
     std::copy(local_counts, local_counts + partitions, counts);
   };
