@@ -357,6 +357,8 @@ void BroadPhaseGrid::prepare(std::size_t n, int threads) {
   thread_occupied_.resize(team);
   occupancy_team_ = std::min(occupancy_team_, team);
   partition_start_.resize(partitions);
+  thread_bucket_cursor_.resize(team);
+  for (auto& cursor : thread_bucket_cursor_) cursor.resize(std::size_t{1} << fine_bits_);
   hist_.resize(kHistogramBins);
   thread_hist_.resize(team * kHistogramBins);
   prepared_threads_ = team;
@@ -553,7 +555,12 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   const std::size_t p_begin = partitions * t / threads, p_end = partitions * (t + 1) / threads;
   std::uint32_t total_slots = 0;  // objects in the grid and ghosts
   for (std::size_t p = 0; p < partitions; ++p) {
-    if (p >= p_begin && p < p_end) partition_start_[p] = total_slots;  // each thread writes its own
+    if (p >= p_begin && p < p_end) {  // each thread writes its own
+      partition_start_[p] = total_slots;
+      // The partition's first bucket start, before any sort: the walk of the region below it reads it
+      // as the end of its last bucket, and may begin before this partition is sorted.
+      bucket_start_[p * fine_buckets] = total_slots;
+    }
     for (std::size_t u = 0; u < threads; ++u) total_slots += coarse_count_[u * partitions + p];
   }
   if (t + 1 == threads) bucket_start_[buckets] = total_slots;
@@ -575,6 +582,13 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     for (std::size_t u = 0; u < occupancy_team_; ++u) occupied += thread_occupied_[u];
     occupancy_team_ = threads;
     coarsening_ = next_coarsening(coarsening_, slots_in_grid_, occupied);
+    // This build's, read by the walks (no barrier after the sort), so set before the scatter's.
+    slots_in_grid_ = total_slots;
+    oversized_.clear();  // in population order (the chunks are in order)
+    for (std::size_t u = 0; u < threads; ++u)
+      oversized_.insert(oversized_.end(), thread_oversized_[u].begin(), thread_oversized_[u].end());
+    for (std::size_t r = 0; r < regions; ++r)
+      region_progress_[r].partitions_sorted.store(0, std::memory_order_relaxed);
     const double needed = std::max(largest, 1.0) * (1.0 + kCellMargin);
     const double wanted = needed * coarsening_;
     // With several regions the columns stay narrow enough for each region to keep a few (the borders
@@ -657,14 +671,6 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   timeline.mark(t, kDetScatter);
 #pragma omp barrier
   timeline.mark(t, kDetWaitScatter);
-  // The oversized objects in population order (the chunks are in order).
-#pragma omp single nowait
-  {
-    oversized_.clear();
-    for (std::size_t u = 0; u < threads; ++u)
-      oversized_.insert(oversized_.end(), thread_oversized_[u].begin(), thread_oversized_[u].end());
-    slots_in_grid_ = total_slots;
-  }
   // Each thread sorts a contiguous run of partitions by fine bucket (stable), so the slot arrays'
   // lines are written by one thread each (no line shared but at the run's two ends).
   for (std::size_t p = p_begin; p < p_end; ++p) {
@@ -679,8 +685,9 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       }
     }
     const std::size_t first_bucket = p * fine_buckets;
-    std::uint32_t* starts = &bucket_start_[first_bucket];
-    std::fill(starts, starts + fine_buckets, 0u);
+    std::uint32_t* const starts = &bucket_start_[first_bucket];
+    std::uint32_t* const cursor = thread_bucket_cursor_[t].data();
+    std::fill(cursor, cursor + fine_buckets, 0u);
     std::fill(&occupied_[first_bucket / 64], &occupied_[first_bucket / 64] + fine_buckets / 64, 0ull);
     // The partition's boxes: every thread's group, in thread order.
     auto each_box = [&](auto&& f) {
@@ -692,13 +699,14 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     };
     each_box([&](const GridBox& box) {
       const std::size_t b = box.bucket;
-      ++starts[b - first_bucket];
+      ++cursor[b - first_bucket];
       occupied_[b >> 6] |= std::uint64_t{1} << (b & 63);
     });
-    exclusive_prefix_sum(starts, fine_buckets, partition_start_[p]);
-    // Scatter with the starts as cursors, then shift the starts back.
+    exclusive_prefix_sum(cursor, fine_buckets, partition_start_[p]);
+    // The starts (the first one is set already), then the scatter with the cursors.
+    std::copy(cursor + 1, cursor + fine_buckets, starts + 1);
     each_box([&](const GridBox& box) {
-      const std::uint32_t k = starts[box.bucket - first_bucket]++;
+      const std::uint32_t k = cursor[box.bucket - first_bucket]++;
       for (int axis = 0; axis < 3; ++axis) {
         slot_box_[axis][k] = box.lo[axis];
         slot_box_[3 + axis][k] = box.hi[axis];
@@ -708,8 +716,9 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       slot_index_[k] = box.index;
       slot_chord_[k] = box.chord;
     });
-    for (std::size_t f = fine_buckets; f-- > 1;) starts[f] = starts[f - 1];
-    starts[0] = partition_start_[p];
+    // Its region's walks may read it now (once the region's other partitions are sorted too).
+    region_progress_[p >> (region_bits_ - fine_bits_)].partitions_sorted.fetch_add(1,
+                                                                                   std::memory_order_release);
   }
   {
     // The occupied cells (buckets) of this thread's partitions, for the next build's cell.
@@ -719,8 +728,6 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     thread_occupied_[t] = occupied;
   }
   timeline.mark(t, kDetSort);
-#pragma omp barrier
-  timeline.mark(t, kDetWaitSort);
 }
 
 template <std::size_t kBorders>
@@ -765,6 +772,16 @@ std::pair<std::size_t, std::size_t> BroadPhaseGrid::sorted_slots(std::size_t t, 
   const std::size_t first = partitions_ * t / threads, last = partitions_ * (t + 1) / threads;
   return {first < partitions_ ? partition_start_[first] : slots_in_grid_,
           last < partitions_ ? partition_start_[last] : slots_in_grid_};
+}
+
+bool BroadPhaseGrid::slots_sorted(std::size_t t, std::size_t threads) const {
+  const std::size_t first = partitions_ * t / threads, last = partitions_ * (t + 1) / threads;
+  if (first >= last) return true;
+  const int partition_bits = region_bits_ - fine_bits_;  // partitions per region: 2^partition_bits
+  for (std::size_t r = first >> partition_bits; r <= (last - 1) >> partition_bits; ++r)
+    if (region_progress_[r].partitions_sorted.load(std::memory_order_acquire) != (1u << partition_bits))
+      return false;
+  return true;
 }
 
 void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
@@ -922,8 +939,9 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, std::size_t first, std::size
   const float a_lo0 = lo0[k], a_lo1 = lo1[k], a_lo2 = lo2[k], a_hi0 = hi0[k], a_hi1 = hi1[k], a_hi2 = hi2[k];
 #ifdef __AVX512F__
   // 16 box tests at once into a mask register (ordered compares: false with NaN, as the portable test
-  // below); slots past `last` are read (the arrays are padded) and masked off. Even a range of one or
-  // two slots is cheaper this way than one slot at a time (20k objects: 134 -> 127 ns per object-step).
+  // below); slots past `last` are read (the arrays are padded) and masked off (they may be another
+  // region's, which its sort may be writing meanwhile: no result depends on their lanes). Even a range of one
+  // or two slots is cheaper this way than one slot at a time (20k objects: 134 -> 127 ns per object-step).
   static_assert(kLanes == 16);
   const __m512 lo0_a = _mm512_set1_ps(a_lo0), lo1_a = _mm512_set1_ps(a_lo1), lo2_a = _mm512_set1_ps(a_lo2);
   const __m512 hi0_a = _mm512_set1_ps(a_hi0), hi1_a = _mm512_set1_ps(a_hi1), hi2_a = _mm512_set1_ps(a_hi2);

@@ -95,9 +95,11 @@
 // cache line per object instead of twelve state arrays, where candidates are still many per object.
 #pragma once
 
+#include <atomic>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -138,9 +140,10 @@ class BroadPhaseGrid {
   // Sizes the scratch for n objects and teams of up to `threads` threads (outside a parallel region).
   void prepare(std::size_t n, int threads);
   // Builds the boxes and the grid for one step. Called by every thread of the current team, inside a
-  // parallel region, after prepare(); it returns when the grid is complete for all of them. Objects whose
-  // motion spans more than max_motion_m along an axis (or is not finite) are oversized: kept out of the
-  // grid (see above).
+  // parallel region, after prepare(); it returns when the thread's own share of the sort is done: the
+  // slots of thread u's run may be walked once slots_sorted(u, team) says so (each region is sorted on
+  // its own, and every row a slot looks up lies in the slot's region). Objects whose motion spans more
+  // than max_motion_m along an axis (or is not finite) are oversized: kept out of the grid (see above).
   void build_in_team(const StepEnds& step, NarrowPhase motion, const ThresholdShare& share,
                      double max_motion_m, bool with_hulls = false);
   // The same with a team of its own (call outside any parallel region).
@@ -154,6 +157,9 @@ class BroadPhaseGrid {
   // The slots that thread t of a team of `threads` sorted (its region's, when the team is the size the
   // grid was prepared for): walking them first, a thread reads what its own core wrote.
   std::pair<std::size_t, std::size_t> sorted_slots(std::size_t t, std::size_t threads) const;
+  // Whether every region that thread t's run of slots lies in is sorted (false only while the build's
+  // team is still sorting).
+  bool slots_sorted(std::size_t t, std::size_t threads) const;
   void collect_pairs(std::size_t slot_begin, std::size_t slot_end, std::vector<CandidatePair>& out) const;
   // An object's hull (by population index) as of the last build with_hulls (Hermite motion only).
   const HermiteHull& hull(std::size_t i) const { return hull_[i]; }
@@ -359,6 +365,15 @@ class BroadPhaseGrid {
   // occupancy_team_), for the coarsening.
   std::vector<std::uint32_t> thread_occupied_;
   std::size_t occupancy_team_ = 0;
+  // Per thread: the sort's bucket counts, then cursors, for the partition at hand (kept out of
+  // bucket_start_, whose partition edges the walks of other regions read meanwhile).
+  std::vector<std::vector<std::uint32_t>> thread_bucket_cursor_;
+  // Per region: its partitions sorted so far in this build (released by the sorters, acquired by the
+  // walkers), each on its own line.
+  struct alignas(64) RegionProgress {
+    std::atomic<std::uint32_t> partitions_sorted{0};
+  };
+  std::unique_ptr<RegionProgress[]> region_progress_ = std::make_unique<RegionProgress[]>(kMaxRegions);
 };
 
 }  // namespace kessler

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 #include "core/conjunctions/broad_phase_grid.hpp"
 #include "core/conjunctions/narrow_phase_hermite.hpp"
@@ -21,6 +22,23 @@ namespace {
 constexpr double kDomainEdge_m = 20.0e6;
 // Threshold share used to bound the cutoff when only kappa is known (the radius of a large object).
 constexpr double kBoundingRadius_m = 50.0;
+// A wait for another thread's sort spins this many pauses (a few microseconds) before it yields the core.
+constexpr int kSpinsBeforeYield = 256;
+
+// Waits until done() holds: a short spin, then yielding the core (with more threads than cores, the
+// thread being waited for may need this one's).
+template <typename Done>
+void wait_until(Done done) {
+  for (int spins = 0; !done(); ++spins) {
+    if (spins < kSpinsBeforeYield) {
+#if defined(__x86_64__) || defined(__i386__)
+      __builtin_ia32_pause();
+#endif
+    } else {
+      std::this_thread::yield();
+    }
+  }
+}
 
 }  // namespace
 
@@ -116,14 +134,21 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
     grid_.build_in_team(step, settings_.narrow_phase, share, max_motion_m, use_hulls);
     std::vector<CandidatePair>& mine = per_thread_[t].candidates;
     // The walk: each thread first walks the slots it sorted (its region of space, whose neighbour
-    // cells are mostly its own too, so it reads lines its own core wrote), then helps with the others'.
-    // Runs are claimed as the threads ask (dense regions of the sky cost more), guided: the owner takes
-    // half of what is left of its slots, a helper a quarter, at least kMinRun slots (~10 us of walk on
-    // one core): few claims, and short runs at the end, when the last ones decide when the team is done.
+    // cells are its own too, so it reads lines its own core wrote), then helps with the others'.
+    // No barrier after the sort: a region's slots are walked once that region is sorted (a thread
+    // that finds another's not yet sorted goes on to the next, and comes back to it). Runs are claimed
+    // as the threads ask (dense regions of the sky cost more), guided: the owner takes half of what is
+    // left of its slots, a helper a quarter, at least kMinRun slots (~10 us of walk on one core): few
+    // claims, and short runs at the end, when the last ones decide when the team is done.
     constexpr std::size_t kMinRun = 128;
     const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());
-    for (std::size_t d = 0; d < team; ++d) {
+    for (std::size_t visit = 0; visit < 2 * team; ++visit) {
+      const std::size_t d = visit % team;
       const std::size_t owner = (t + d) % team;
+      if (!grid_.slots_sorted(owner, team)) {
+        if (visit < team) continue;  // first round: come back to it
+        wait_until([&] { return grid_.slots_sorted(owner, team); });
+      }
       const auto [first, last] = grid_.sorted_slots(owner, team);
       std::atomic<std::size_t>& claimed = walk_cursors_[owner].claimed;
       const std::size_t divisor = d == 0 ? 2 : 4;

@@ -98,7 +98,6 @@ enum DetectorSegment {
   kDetScatter,
   kDetWaitScatter,
   kDetSort,
-  kDetWaitSort,
   kDetWalk,
   kDetNarrow,
   kDetJoin
@@ -109,7 +108,7 @@ inline TeamTimeline& propagator_timeline() {
 }
 inline TeamTimeline& detector_timeline() {
   static TeamTimeline timeline({"fork", "grow", "edges", "keys", "wait_boxes", "rekey", "scatter",
-                                "wait_scatter", "sort", "wait_sort", "walk", "narrow", "join"});
+                                "wait_scatter", "sort", "walk", "narrow", "join"});
   return timeline;
 }
 

@@ -140,7 +140,9 @@ TEST(Reference, BitwiseIdenticalForOneTwoAndFourThreads) {
   }
 }
 
-TEST(Reference, SixteenThreadsMatchOneOnTheFirstSteps) {
+TEST(Reference, SixteenAndTwentyThreadsMatchOneOnTheFirstSteps) {
+  // 16 threads: a region of space each; 20: more threads than regions, so some regions are sorted by
+  // two threads, and each region's walk waits for both (there is no barrier after the sort).
   const RandomLeo& scenario = random_leo(false);
   const std::vector<StateArrays> first(scenario.snaps.begin(), scenario.snaps.begin() + 31);
   ConjunctionSettings s;
@@ -150,10 +152,16 @@ TEST(Reference, SixteenThreadsMatchOneOnTheFirstSteps) {
   const auto one = testing::run_detector(scenario.population, first, kDt, s);
   omp_set_num_threads(16);
   const auto sixteen = testing::run_detector(scenario.population, first, kDt, s);
+  omp_set_num_threads(20);
+  const auto twenty = testing::run_detector(scenario.population, first, kDt, s);
   omp_set_num_threads(saved);
   ASSERT_GT(one.size(), 20u);
   ASSERT_EQ(sixteen.size(), one.size());
-  for (std::size_t k = 0; k < one.size(); ++k) ASSERT_TRUE(bitwise_equal(sixteen[k], one[k])) << k;
+  ASSERT_EQ(twenty.size(), one.size());
+  for (std::size_t k = 0; k < one.size(); ++k) {
+    ASSERT_TRUE(bitwise_equal(sixteen[k], one[k])) << "16 threads: " << k;
+    ASSERT_TRUE(bitwise_equal(twenty[k], one[k])) << "20 threads: " << k;
+  }
 }
 
 }  // namespace
