@@ -40,9 +40,10 @@
 // and z + 1; z - 1..z + 1 of four neighbouring rows); an occupancy bitmap (1 bit per bucket)
 // skips empty ones. Objects are ordered by bucket with a parallel, stable counting sort, so memory and
 // time stay O(N) whatever the domain's size and the result never depends on threads.
-// The build runs inside the caller's parallel region with three barriers (boxes and keys; scatter into
-// coarse partitions; sort of each partition by fine bucket) and no serial section: every thread
-// computes the partition layout itself from all threads' counts. Each thread keeps the contiguous
+// The build runs inside the caller's parallel region with two barriers (after the boxes and keys; after
+// the scatter into coarse partitions), then each partition's sort by fine bucket, with no barrier after
+// it (a region's walk waits for that region's sort alone), and no serial section: every thread computes
+// the partition layout itself from all threads' counts. Each thread keeps the contiguous
 // chunk of objects whose end states the propagator wrote on the same core (thread_chunks.hpp).
 //
 // Regions of space, one per thread: the x axis is cut into slabs of whole cell columns, and each slab's
