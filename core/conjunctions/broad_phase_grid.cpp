@@ -552,7 +552,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   // Slots: partitions in order, inside a partition the threads' groups in thread order (so population
   // order within each bucket, whatever the thread count). Every thread reads all counts and computes
   // the layout itself (no serial section).
-  const std::size_t p_begin = partitions * t / threads, p_end = partitions * (t + 1) / threads;
+  const auto [p_begin, p_end] = partition_run(t, threads);
   std::uint32_t total_slots = 0;  // objects in the grid and ghosts
   for (std::size_t p = 0; p < partitions; ++p) {
     if (p >= p_begin && p < p_end) {  // each thread writes its own
@@ -717,8 +717,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       slot_chord_[k] = box.chord;
     });
     // Its region's walks may read it now (once the region's other partitions are sorted too).
-    region_progress_[p >> (region_bits_ - fine_bits_)].partitions_sorted.fetch_add(1,
-                                                                                   std::memory_order_release);
+    region_progress_[region_of_partition(p)].partitions_sorted.fetch_add(1, std::memory_order_release);
   }
   {
     // The occupied cells (buckets) of this thread's partitions, for the next build's cell.
@@ -769,18 +768,17 @@ void BroadPhaseGrid::key_boxes(double inverse_column_m, double inverse_cell_m, c
 }
 
 std::pair<std::size_t, std::size_t> BroadPhaseGrid::sorted_slots(std::size_t t, std::size_t threads) const {
-  const std::size_t first = partitions_ * t / threads, last = partitions_ * (t + 1) / threads;
+  const auto [first, last] = partition_run(t, threads);
   return {first < partitions_ ? partition_start_[first] : slots_in_grid_,
           last < partitions_ ? partition_start_[last] : slots_in_grid_};
 }
 
 bool BroadPhaseGrid::slots_sorted(std::size_t t, std::size_t threads) const {
-  const std::size_t first = partitions_ * t / threads, last = partitions_ * (t + 1) / threads;
+  const auto [first, last] = partition_run(t, threads);
   if (first >= last) return true;
-  const int partition_bits = region_bits_ - fine_bits_;  // partitions per region: 2^partition_bits
-  for (std::size_t r = first >> partition_bits; r <= (last - 1) >> partition_bits; ++r)
-    if (region_progress_[r].partitions_sorted.load(std::memory_order_acquire) != (1u << partition_bits))
-      return false;
+  const std::uint32_t per_region = 1u << (region_bits_ - fine_bits_);
+  for (std::size_t r = region_of_partition(first); r <= region_of_partition(last - 1); ++r)
+    if (region_progress_[r].partitions_sorted.load(std::memory_order_acquire) != per_region) return false;
   return true;
 }
 

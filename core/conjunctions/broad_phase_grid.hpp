@@ -321,6 +321,13 @@ class BroadPhaseGrid {
   double coarsening_ = 1.0;
   std::size_t regions_ = 1, region_mask_ = 0, partitions_ = 1;
   int region_bits_ = 0, fine_bits_ = 0;
+  // Thread t's run of partitions [first, last) in a team of `threads`: contiguous, in order (it sorts
+  // them, and walks their slots first).
+  std::pair<std::size_t, std::size_t> partition_run(std::size_t t, std::size_t threads) const {
+    return {partitions_ * t / threads, partitions_ * (t + 1) / threads};
+  }
+  // The region of partition p (each region holds 2^(region_bits_ - fine_bits_) partitions).
+  std::size_t region_of_partition(std::size_t p) const { return p >> (region_bits_ - fine_bits_); }
   // Where the regions' borders go: a histogram of the lower x corners of the last build's boxes
   // (kHistogramBins bins of hist_width_m_ from hist_origin_m_), summed over the threads. Its own
   // central range gives the next one's bins; the first spans the paper's domain.
