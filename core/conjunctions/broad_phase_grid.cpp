@@ -408,7 +408,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   if (threads > prepared_threads_) throw std::logic_error("BroadPhaseGrid: team larger than prepared");
   // Each thread owns the chunk of objects whose end states the propagator wrote on this core
   // (thread_chunks.hpp), so the first pass reads what this core holds.
-  const auto [begin, end] = thread_chunk(n, t, threads);
+  const auto [begin, end] = thread_chunk(step.chunks, n, t, threads);
   // The cell edges guessed from the last step (read by every thread before anyone may change them):
   // along y and z, and the columns' along x (no larger).
   const double guess = next_cell_m_, guess_column = next_column_m_;

@@ -119,7 +119,10 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
     lists.candidates.clear();
     lists.events.clear();
     lists.collected_at = t_begin;
+    lists.own_slots = lists.helped_slots = 0;
+    lists.own_s = lists.helped_s = 0.0;
   }
+  const bool help = sharing_.helping();
   if (walk_cursors_.size() < static_cast<std::size_t>(threads))
     walk_cursors_ = std::vector<WalkCursor>(static_cast<std::size_t>(threads));
   for (WalkCursor& cursor : walk_cursors_) cursor.claimed.store(0, std::memory_order_relaxed);
@@ -134,7 +137,8 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
     grid_.build_in_team(step, settings_.narrow_phase, share, max_motion_m, use_hulls);
     std::vector<CandidatePair>& mine = per_thread_[t].candidates;
     // The walk: each thread first walks the slots it sorted (its region of space, whose neighbour
-    // cells are its own too, so it reads lines its own core wrote), then helps with the others'.
+    // cells are its own too, so it reads lines its own core wrote), then helps with the others' where
+    // that pays (walk_sharing.hpp).
     // No barrier after the sort: a region's slots are walked once that region is sorted (a thread
     // that finds another's not yet sorted goes on to the next, and comes back to it). Runs are claimed
     // as the threads ask (dense regions of the sky cost more), guided: the owner takes half of what is
@@ -144,6 +148,7 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
     const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());
     for (std::size_t visit = 0; visit < 2 * team; ++visit) {
       const std::size_t d = visit % team;
+      if (d != 0 && !help) continue;
       const std::size_t owner = (t + d) % team;
       if (!grid_.slots_sorted(owner, team)) {
         if (visit < team) continue;  // first round: come back to it
@@ -152,13 +157,21 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
       const auto [first, last] = grid_.sorted_slots(owner, team);
       std::atomic<std::size_t>& claimed = walk_cursors_[owner].claimed;
       const std::size_t divisor = d == 0 ? 2 : 4;
+      const double visit_start = omp_get_wtime();
+      std::size_t walked = 0;
       for (std::size_t taken = claimed.load(std::memory_order_relaxed);;) {
         const std::size_t left = last - first - std::min(taken, last - first);
         if (left == 0) break;
         const std::size_t run = std::min(left, std::max(left / divisor, kMinRun));
         if (!claimed.compare_exchange_weak(taken, taken + run, std::memory_order_relaxed)) continue;
         grid_.collect_pairs(first + taken, first + taken + run, mine);
+        walked += run;
         taken = claimed.load(std::memory_order_relaxed);
+      }
+      if (walked > 0) {
+        ThreadLists& me = per_thread_[t];
+        (d == 0 ? me.own_slots : me.helped_slots) += walked;
+        (d == 0 ? me.own_s : me.helped_s) += omp_get_wtime() - visit_start;
       }
     }
     const std::int64_t oversized = static_cast<std::int64_t>(grid_.oversized_count());
@@ -187,12 +200,18 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
   }
   timeline.region_end();
   double t_grid = t_begin;
-  std::size_t total = 0, pairs = 0;
+  std::size_t total = 0, pairs = 0, own_slots = 0, helped_slots = 0;
+  double own_s = 0.0, helped_s = 0.0;
   for (const ThreadLists& lists : per_thread_) {
     t_grid = std::max(t_grid, lists.collected_at);
     total += lists.events.size();
     pairs += lists.candidates.size();
+    own_slots += lists.own_slots;
+    helped_slots += lists.helped_slots;
+    own_s += lists.own_s;
+    helped_s += lists.helped_s;
   }
+  if (threads > 1) sharing_.record(own_slots, own_s, helped_slots, helped_s);
   const std::size_t first = out.size();
   out.reserve(first + total);
   for (const ThreadLists& lists : per_thread_)

@@ -10,6 +10,7 @@
 
 #include "core/conjunctions/broad_phase_grid.hpp"
 #include "core/conjunctions/encounter.hpp"
+#include "core/conjunctions/walk_sharing.hpp"
 #include "core/integration/propagator.hpp"
 
 namespace kessler {
@@ -59,6 +60,9 @@ class ConjunctionDetector {
     std::vector<CandidatePair> candidates;
     std::vector<Encounter> events;
     double collected_at = 0.0;  // when its candidates were complete
+    // The slots it walked of its own region and of others', and the seconds each took.
+    std::size_t own_slots = 0, helped_slots = 0;
+    double own_s = 0.0, helped_s = 0.0;
   };
   std::vector<ThreadLists> per_thread_;
   // Per thread: how many of the slots it sorted have been claimed for the walk (by it or by others).
@@ -66,6 +70,7 @@ class ConjunctionDetector {
     std::atomic<std::size_t> claimed{0};
   };
   std::vector<WalkCursor> walk_cursors_;
+  WalkSharing sharing_;  // whether threads help walk each other's regions (walk_sharing.hpp)
 };
 
 }  // namespace kessler

@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "core/integration/thread_chunks.hpp"
 #include "core/population/population.hpp"
 
 namespace kessler {
@@ -16,6 +17,9 @@ struct StepEnds {
   double dt_s = 0.0;
   const StateArrays* start = nullptr;
   const StateArrays* end = nullptr;
+  // How the propagator shared the objects out between its threads (null: in equal chunks): passes over
+  // the end states that split the same way read what their own core wrote.
+  const ChunkLayout* chunks = nullptr;
 };
 
 // What the loop asks of a step besides the new states.
@@ -43,6 +47,8 @@ class Propagator {
   void step_keeping_start(Population& population, double t_start_s, double dt_s, StateArrays& start_out) {
     step_with(population, t_start_s, dt_s, StepRequest{&start_out});
   }
+  // The chunks the last step shared out between threads, where they are not equal ones (else null).
+  virtual const ChunkLayout* last_chunks() const { return nullptr; }
 };
 
 }  // namespace kessler

@@ -233,7 +233,10 @@ void SymplecticPropagator::step_with(Population& population, double t_start_s, d
   for (ThreadLow& low : low_by_thread_) low.clear();  // OpenMP may give fewer threads
   // Blocks of a sixteenth of a chunk, at least 64 objects (~0.6% of a block's work goes to claiming it).
   const std::size_t chunk = n / static_cast<std::size_t>(threads);
-  blocks_.reset(n, static_cast<std::size_t>(threads), std::max<std::size_t>(chunk / 16, 64));
+  // Chunks of equal cost, from the last step's low objects: they stay low for many steps. (Burn-ups
+  // may have shifted some indices since; a chunk a few objects off only costs a little balance.)
+  chunks_.weighted(n, static_cast<std::size_t>(threads), low_, kLowObjectExtraCost);
+  blocks_.reset(chunks_, std::max<std::size_t>(chunk / 16, 64));
   TeamTimeline& timeline = propagator_timeline();
   timeline.region_start(static_cast<std::size_t>(threads));
 #pragma omp parallel num_threads(threads)

@@ -72,6 +72,11 @@ class SymplecticPropagator final : public Propagator {
   static constexpr int kLowAltitudeSubsteps = 4;
   // Objects that took sub-steps in the last step() (population indices, ascending).
   const std::vector<std::uint32_t>& last_substepped() const { return low_; }
+  // A low object's cost in a step beyond an ordinary one's, in ordinary steps (its sub-steps, and the
+  // copies of its states): chunks are shared out by cost (thread_chunks.hpp, ChunkLayout). Only the
+  // balance between the threads depends on it.
+  static constexpr double kLowObjectExtraCost = 3.5;
+  const ChunkLayout* last_chunks() const override { return &chunks_; }
 
   struct StepArrays;
 
@@ -94,7 +99,8 @@ class SymplecticPropagator final : public Propagator {
     StepArrays arrays();
   };
   std::vector<ThreadLow> low_by_thread_;
-  ChunkBlocks blocks_;  // the step's objects handed out in blocks (thread_chunks.hpp)
+  ChunkLayout chunks_;  // the step's chunks: of equal cost, from the last step's low objects
+  ChunkBlocks blocks_;  // the chunks handed out in blocks (thread_chunks.hpp)
 };
 
 // Throws std::invalid_argument with Population::validate's message ("object <id>: <field> <reason>")

@@ -4,9 +4,11 @@
 // times more to read, and writing a line another core has read costs more still.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <memory>
+#include <vector>
 
 namespace kessler {
 
@@ -27,6 +29,67 @@ inline ThreadChunk thread_chunk(std::size_t n, std::size_t thread, std::size_t t
   return {boundary(thread), boundary(thread + 1)};
 }
 
+// Chunks of equal cost rather than equal size: some objects cost a step more than others (the
+// propagator's low objects take four sub-steps), and they cluster in a catalog (one launch's or one
+// breakup's decaying objects sit together; leo-19647 holds 111 of its 115 low objects in its second
+// half). With chunks of equal size, the team evened that out by stealing blocks, whose lines then
+// moved between cores twice (the thief's writes, then the owner's box pass), and the threads still
+// finished up to a block apart. The layout is the propagator's, handed to the passes after it (burn-up,
+// the grid's boxes) so that each thread still reads the states its own core wrote. Only which core
+// handles an object depends on it, never a result.
+class ChunkLayout {
+ public:
+  // Equal chunks (thread_chunk) of n objects for `team` threads.
+  void even(std::size_t n, std::size_t team) {
+    starts_.resize(team + 1);
+    for (std::size_t t = 0; t < team; ++t) starts_[t] = thread_chunk(n, t, team).begin;
+    starts_[team] = n;
+  }
+  // Chunks of equal cost when each object costs 1 and each of `costly` (population indices, ascending;
+  // any beyond n are ignored) costs 1 + extra_cost; each start on a vector boundary.
+  template <typename Index>
+  void weighted(std::size_t n, std::size_t team, const std::vector<Index>& costly, double extra_cost) {
+    std::size_t heavy = 0;
+    while (heavy < costly.size() && static_cast<std::size_t>(costly[heavy]) < n) ++heavy;
+    if (heavy == 0 || team < 2) return even(n, team);
+    starts_.resize(team + 1);
+    starts_[0] = 0;
+    starts_[team] = n;
+    const double total = static_cast<double>(n) + extra_cost * static_cast<double>(heavy);
+    // The cost of objects [0, i) is i plus extra_cost for each costly one below i: walk both in order.
+    std::size_t below = 0;  // costly objects below the current start
+    for (std::size_t t = 1; t < team; ++t) {
+      const double target = total * static_cast<double>(t) / static_cast<double>(team);
+      // The first i whose prefix cost reaches the target, with `below` costly objects under it.
+      std::size_t i = 0;
+      for (;;) {
+        const double before = target - extra_cost * static_cast<double>(below);
+        i = before <= 0.0 ? 0 : static_cast<std::size_t>(before);
+        if (below < heavy && static_cast<std::size_t>(costly[below]) < i) {
+          ++below;
+          continue;
+        }
+        break;
+      }
+      i = std::min(i, n) / kChunkAlign * kChunkAlign;
+      starts_[t] = std::max(starts_[t - 1], i);
+    }
+  }
+  std::size_t team() const { return starts_.empty() ? 0 : starts_.size() - 1; }
+  std::size_t objects() const { return starts_.empty() ? 0 : starts_.back(); }
+  ThreadChunk chunk(std::size_t thread) const { return {starts_[thread], starts_[thread + 1]}; }
+
+ private:
+  std::vector<std::size_t> starts_;  // team + 1 entries: chunk t is [starts_[t], starts_[t + 1])
+};
+
+// Thread t's chunk: the layout's, when it was made for this team and these n objects, else equal ones.
+inline ThreadChunk thread_chunk(const ChunkLayout* layout, std::size_t n, std::size_t thread,
+                                std::size_t team) {
+  if (layout != nullptr && layout->team() == team && layout->objects() == n) return layout->chunk(thread);
+  return thread_chunk(n, thread, team);
+}
+
 // The blocks of a team's chunks, handed out with stealing: each thread takes the blocks of its own chunk
 // first, in order, then what is left of the other chunks (from the next thread's on). A core that runs
 // slow for a while, or a chunk that holds costly objects, no longer holds up the team at the next
@@ -34,9 +97,16 @@ inline ThreadChunk thread_chunk(std::size_t n, std::size_t thread, std::size_t t
 // block changes no result where each object's arithmetic depends on that object alone.
 class ChunkBlocks {
  public:
-  // Before the region (one thread): chunks of n objects for `team` threads, in blocks of `block`
+  // Before the region (one thread): equal chunks of n objects for `team` threads, in blocks of `block`
   // (rounded up to a multiple of kChunkAlign, so that blocks start on a vector boundary too).
   void reset(std::size_t n, std::size_t team, std::size_t block) {
+    ChunkLayout layout;
+    layout.even(n, team);
+    reset(layout, block);
+  }
+  // The same for the chunks of `layout`.
+  void reset(const ChunkLayout& layout, std::size_t block) {
+    const std::size_t team = layout.team();
     block = (block + kChunkAlign - 1) / kChunkAlign * kChunkAlign;
     if (team > capacity_) {
       cursors_ = std::make_unique<Cursor[]>(team);
@@ -45,7 +115,7 @@ class ChunkBlocks {
     team_ = team;
     block_ = block;
     for (std::size_t t = 0; t < team; ++t) {
-      const ThreadChunk chunk = thread_chunk(n, t, team);
+      const ThreadChunk chunk = layout.chunk(t);
       cursors_[t].next.store(chunk.begin, std::memory_order_relaxed);
       cursors_[t].end = chunk.end;
     }

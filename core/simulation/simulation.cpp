@@ -287,7 +287,7 @@ RunSummary Simulation::run(EventSink& sink, RunControl& control) {
       encounters.clear();
       if (s.parts.scanner && pop.size() > 1) {
         t = Clock::now();
-        StepEnds ends{t0_s, cfg.dt_s, &start_state, &pop.state};
+        StepEnds ends{t0_s, cfg.dt_s, &start_state, &pop.state, s.parts.propagator->last_chunks()};
         s.parts.scanner->scan(pop, ends, encounters);
         const double scan_s = seconds_since(t);
         const double grid_s = std::min(scan_s, s.parts.scanner->last_grid_s());

@@ -78,7 +78,7 @@ int run(int argc, char** argv) {
     const double propagate_start = now_s();
     propagator.step(population, t0, dt);
     propagate_s += now_s() - propagate_start;
-    const StepEnds step{t0, dt, &start_states, &population.state};
+    const StepEnds step{t0, dt, &start_states, &population.state, propagator.last_chunks()};
     for (int rep = 0; rep < repeats; ++rep) {
       scratch.clear();
       const double wall_start = now_s(), cpu_start = process_cpu_s();

@@ -140,6 +140,33 @@ TEST(Reference, BitwiseIdenticalForOneTwoAndFourThreads) {
   }
 }
 
+// The propagator shares objects out in chunks of equal cost (thread_chunks.hpp, ChunkLayout), and the
+// grid's box pass takes the same chunks: chunks far from equal in size must give the same events.
+TEST(Reference, UnequalChunksGiveTheSameEvents) {
+  const RandomLeo& scenario = random_leo(false);
+  const std::vector<StateArrays> first(scenario.snaps.begin(), scenario.snaps.begin() + 31);
+  ConjunctionSettings s;
+  s.screening_distance_m = 20e3;
+  const std::size_t n = scenario.population.size();
+  std::vector<std::size_t> costly;  // the first 40 % of the objects, each costing 6 ordinary ones
+  for (std::size_t i = 0; i < 2 * n / 5; ++i) costly.push_back(i);
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const auto one = testing::run_detector(scenario.population, first, kDt, s);
+  for (int threads : {2, 3}) {
+    ChunkLayout uneven;
+    uneven.weighted(n, static_cast<std::size_t>(threads), costly, 5.0);
+    ASSERT_LT(uneven.chunk(0).end - uneven.chunk(0).begin, n / (2 * static_cast<std::size_t>(threads)));
+    omp_set_num_threads(threads);
+    const auto events = testing::run_detector(scenario.population, first, kDt, s, nullptr, &uneven);
+    ASSERT_GT(one.size(), 20u);
+    ASSERT_EQ(events.size(), one.size()) << threads << " threads";
+    for (std::size_t k = 0; k < one.size(); ++k)
+      ASSERT_TRUE(bitwise_equal(events[k], one[k])) << threads << " threads: " << k;
+  }
+  omp_set_num_threads(saved);
+}
+
 TEST(Reference, SixteenAndTwentyThreadsMatchOneOnTheFirstSteps) {
   // 16 threads: a region of space each; 20: more threads than regions, so some regions are sorted by
   // two threads, and each region's walk waits for both (there is no barrier after the sort).

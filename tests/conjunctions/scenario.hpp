@@ -27,12 +27,13 @@ inline std::vector<StateArrays> kepler_snapshots(const std::vector<KeplerState>&
 inline std::vector<Encounter> run_detector(const Population& population,
                                            const std::vector<StateArrays>& snaps, double dt_s,
                                            const ConjunctionSettings& settings,
-                                           std::size_t* candidate_pairs = nullptr) {
+                                           std::size_t* candidate_pairs = nullptr,
+                                           const ChunkLayout* chunks = nullptr) {
   ConjunctionDetector detector(settings);
   std::vector<Encounter> events;
   std::size_t pairs = 0;
   for (std::size_t k = 0; k + 1 < snaps.size(); ++k) {
-    StepEnds step{static_cast<double>(k) * dt_s, dt_s, &snaps[k], &snaps[k + 1]};
+    StepEnds step{static_cast<double>(k) * dt_s, dt_s, &snaps[k], &snaps[k + 1], chunks};
     detector.scan(population, step, events);
     pairs += detector.last_candidate_pairs();
   }
