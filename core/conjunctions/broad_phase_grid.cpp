@@ -41,6 +41,10 @@ constexpr float kFarOut_m = 1.0e9f;
 // 99 % widened by kHistogramMargin of that on each side.
 constexpr std::size_t kHistogramStride = 4;
 constexpr double kHistogramMargin = 0.125;
+// The regions' costs per slot: one scan's weight in the smoothed cost, and the most it may differ from
+// the regions' mean (either way).
+constexpr double kRegionCostSmoothing = 0.125;
+constexpr double kRegionCostSpread = 1.5;
 // The counting sort's coarse partitions (top bits of the bucket): at most 256.
 constexpr std::size_t kMaxPartitions = 256;
 // The cell edge over the largest box edge: room for the next step's boxes to grow a little, so the
@@ -208,23 +212,31 @@ void grow_boxes(const StateArrays& s0, const StateArrays& s1, const ThresholdSha
   }
 }
 
-// The borders [m] of `regions` regions along x that hold equal shares of a histogram's objects (`bins`
-// bins of `width` from `origin`), each border placed inside its bin as if the bin's objects were spread
-// evenly across it. An empty histogram spreads the borders evenly over its range.
+// The borders [m] of `regions` regions along x that hold shares of a histogram's objects (`bins` bins of
+// `width` from `origin`) in proportion to `shares` (one per region), each border placed inside its bin as
+// if the bin's objects were spread evenly across it. An empty histogram spreads the borders evenly over
+// its range.
 void region_borders_m(const std::uint32_t* hist, std::size_t bins, double origin, double width,
-                      std::size_t regions, double* borders_m) {
+                      std::size_t regions, const double* shares, double* borders_m) {
   double total = 0.0;
   for (std::size_t b = 0; b < bins; ++b) total += hist[b];
+  // Border k goes after the objects of the regions below it: their shares' part of the total.
+  double all_shares = 0.0;
+  for (std::size_t r = 0; r < regions; ++r) all_shares += shares[r];
   std::size_t border = 1;
   if (total > 0.0) {
+    double shares_below = shares[0];  // of the regions below the next border
+    double target = total * shares_below / all_shares;
     double below = 0.0;
     for (std::size_t b = 0; b < bins && border < regions; ++b) {
       const double in_bin = hist[b];
-      for (double target = total * static_cast<double>(border) / static_cast<double>(regions);
-           border < regions && below + in_bin >= target;
-           target = total * static_cast<double>(border) / static_cast<double>(regions)) {
+      while (border < regions && below + in_bin >= target) {
         const double fraction = in_bin > 0.0 ? (target - below) / in_bin : 0.0;
         borders_m[border++ - 1] = origin + (static_cast<double>(b) + fraction) * width;
+        if (border < regions) {
+          shares_below += shares[border - 1];
+          target = total * shares_below / all_shares;
+        }
       }
       below += in_bin;
     }
@@ -355,6 +367,11 @@ void BroadPhaseGrid::prepare(std::size_t n, int threads) {
   thread_oversized_.resize(team);
   thread_edge_.resize(team);
   thread_occupied_.resize(team);
+  thread_sort_s_.resize(team);
+  if (regions_ != costed_regions_) {  // costs measured for other regions say nothing of these
+    std::fill(std::begin(cost_per_slot_s_), std::end(cost_per_slot_s_), 0.0);
+    costed_regions_ = regions_;
+  }
   occupancy_team_ = std::min(occupancy_team_, team);
   partition_start_.resize(partitions);
   thread_bucket_cursor_.resize(team);
@@ -425,8 +442,12 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   std::fill(std::begin(map.first_column), std::end(map.first_column), ~std::uint32_t{0});
   double borders_m[kMaxRegions - 1];
   double bin_origin = kDefaultBinOrigin_m, bin_width = kDefaultBinWidth_m;  // this build's histogram's
+  // Each region's share of the objects: inverse to its cost per slot so far (record_region_costs).
+  double shares[kMaxRegions];
+  for (std::size_t r = 0; r < regions; ++r)
+    shares[r] = cost_per_slot_s_[r] > 0.0 ? 1.0 / cost_per_slot_s_[r] : 1.0;
   if (regions > 1) {
-    region_borders_m(hist_.data(), kHistogramBins, hist_origin_m_, hist_width_m_, regions, borders_m);
+    region_borders_m(hist_.data(), kHistogramBins, hist_origin_m_, hist_width_m_, regions, shares, borders_m);
     histogram_bins_m(hist_.data(), kHistogramBins, hist_origin_m_, hist_width_m_, bin_origin, bin_width);
   }
 
@@ -536,7 +557,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       // The borders from this build's histogram, all threads' (rare: only the first build needs it).
       std::uint32_t hist[kHistogramBins];
       for (std::size_t b = 0; b < kHistogramBins; ++b) hist[b] = summed_bin(b);
-      region_borders_m(hist, kHistogramBins, bin_origin, bin_width, regions, borders_m);
+      region_borders_m(hist, kHistogramBins, bin_origin, bin_width, regions, shares, borders_m);
     }
     key_chunk(column, cell);
 #pragma omp barrier
@@ -671,6 +692,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   timeline.mark(t, kDetScatter);
 #pragma omp barrier
   timeline.mark(t, kDetWaitScatter);
+  const double sort_start_s = omp_get_wtime();
   // Each thread sorts a contiguous run of partitions by fine bucket (stable), so the slot arrays'
   // lines are written by one thread each (no line shared but at the run's two ends).
   for (std::size_t p = p_begin; p < p_end; ++p) {
@@ -726,6 +748,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       occupied += static_cast<std::uint32_t>(std::popcount(occupied_[w]));
     thread_occupied_[t] = occupied;
   }
+  thread_sort_s_[t] = omp_get_wtime() - sort_start_s;
   timeline.mark(t, kDetSort);
 }
 
@@ -771,6 +794,25 @@ std::pair<std::size_t, std::size_t> BroadPhaseGrid::sorted_slots(std::size_t t, 
   const auto [first, last] = partition_run(t, threads);
   return {first < partitions_ ? partition_start_[first] : slots_in_grid_,
           last < partitions_ ? partition_start_[last] : slots_in_grid_};
+}
+
+void BroadPhaseGrid::record_region_costs(const double* seconds, std::size_t team) {
+  if (team != regions_ || regions_ < 2) return;  // each thread's run a region: else not one region's
+  double smoothed[kMaxRegions];
+  for (std::size_t r = 0; r < regions_; ++r) {
+    const auto [first, last] = sorted_slots(r, team);
+    if (last <= first || !(seconds[r] > 0.0)) return;
+    const double per_slot = seconds[r] / static_cast<double>(last - first);
+    const double before = cost_per_slot_s_[r];
+    smoothed[r] = before > 0.0 ? before + kRegionCostSmoothing * (per_slot - before) : per_slot;
+  }
+  // No region's cost per slot beyond kRegionCostSpread times another's (a stalled thread, a page fault
+  // in one step, must not empty a region).
+  double mean = 0.0;
+  for (std::size_t r = 0; r < regions_; ++r) mean += smoothed[r];
+  mean /= static_cast<double>(regions_);
+  for (std::size_t r = 0; r < regions_; ++r)
+    cost_per_slot_s_[r] = std::clamp(smoothed[r], mean / kRegionCostSpread, mean * kRegionCostSpread);
 }
 
 bool BroadPhaseGrid::slots_sorted(std::size_t t, std::size_t threads) const {

@@ -162,6 +162,14 @@ class BroadPhaseGrid {
   // team is still sorting).
   bool slots_sorted(std::size_t t, std::size_t threads) const;
   void collect_pairs(std::size_t slot_begin, std::size_t slot_end, std::vector<CandidatePair>& out) const;
+  // Seconds thread t spent sorting in the last build.
+  double last_sort_s(std::size_t t) const { return thread_sort_s_[t]; }
+  // After a scan whose team had a thread per region (else ignored, as is a scan missing a region's
+  // cost): each region's cost [s], its sort and every thread's walk of its slots. The next builds'
+  // borders give each region a share of the objects inverse to its cost per slot, smoothed over scans,
+  // so that a region whose slots cost more (denser cells, a slower or busier core, the ghosts it holds)
+  // gets fewer. Only the balance between threads depends on it, never a result.
+  void record_region_costs(const double* seconds, std::size_t team);
   // An object's hull (by population index) as of the last build with_hulls (Hermite motion only).
   const HermiteHull& hull(std::size_t i) const { return hull_[i]; }
 
@@ -373,6 +381,10 @@ class BroadPhaseGrid {
   // occupancy_team_), for the coarsening.
   std::vector<std::uint32_t> thread_occupied_;
   std::size_t occupancy_team_ = 0;
+  std::vector<double> thread_sort_s_;  // per thread: the last build's sort [s]
+  // Per region: its smoothed cost per slot [s] (0: none measured yet), for regions_ == costed_regions_.
+  double cost_per_slot_s_[kMaxRegions] = {};
+  std::size_t costed_regions_ = 0;
   // Per thread: the sort's bucket counts, then cursors, for the partition at hand (kept out of
   // bucket_start_, whose partition edges the walks of other regions read meanwhile).
   std::vector<std::vector<std::uint32_t>> thread_bucket_cursor_;

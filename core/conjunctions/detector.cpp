@@ -121,7 +121,9 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
     lists.collected_at = t_begin;
     lists.own_slots = lists.helped_slots = 0;
     lists.own_s = lists.helped_s = 0.0;
+    lists.walk_s_of.assign(static_cast<std::size_t>(threads), 0.0);
   }
+  std::size_t team_size = 0;  // the team OpenMP gave the region
   const bool help = sharing_.helping();
   if (walk_cursors_.size() < static_cast<std::size_t>(threads))
     walk_cursors_ = std::vector<WalkCursor>(static_cast<std::size_t>(threads));
@@ -146,6 +148,7 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
     // claims, and short runs at the end, when the last ones decide when the team is done.
     constexpr std::size_t kMinRun = 128;
     const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());
+    if (t == 0) team_size = team;
     for (std::size_t visit = 0; visit < 2 * team; ++visit) {
       const std::size_t d = visit % team;
       if (d != 0 && !help) continue;
@@ -170,8 +173,10 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
       }
       if (walked > 0) {
         ThreadLists& me = per_thread_[t];
+        const double walked_s = omp_get_wtime() - visit_start;
         (d == 0 ? me.own_slots : me.helped_slots) += walked;
-        (d == 0 ? me.own_s : me.helped_s) += omp_get_wtime() - visit_start;
+        (d == 0 ? me.own_s : me.helped_s) += walked_s;
+        me.walk_s_of[owner] += walked_s;
       }
     }
     const std::int64_t oversized = static_cast<std::int64_t>(grid_.oversized_count());
@@ -211,7 +216,17 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
     own_s += lists.own_s;
     helped_s += lists.helped_s;
   }
-  if (threads > 1) sharing_.record(own_slots, own_s, helped_slots, helped_s);
+  if (threads > 1 && team_size == static_cast<std::size_t>(threads)) {
+    sharing_.record(own_slots, own_s, helped_slots, helped_s);
+    // Each thread's run of slots (its region, with a thread per region): its sort and all its walks.
+    std::vector<double>& cost = region_cost_s_;
+    cost.assign(team_size, 0.0);
+    for (std::size_t u = 0; u < team_size; ++u) {
+      cost[u] += grid_.last_sort_s(u);
+      for (std::size_t w = 0; w < team_size; ++w) cost[u] += per_thread_[w].walk_s_of[u];
+    }
+    grid_.record_region_costs(cost.data(), team_size);
+  }
   const std::size_t first = out.size();
   out.reserve(first + total);
   for (const ThreadLists& lists : per_thread_)

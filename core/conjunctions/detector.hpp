@@ -63,6 +63,7 @@ class ConjunctionDetector {
     // The slots it walked of its own region and of others', and the seconds each took.
     std::size_t own_slots = 0, helped_slots = 0;
     double own_s = 0.0, helped_s = 0.0;
+    std::vector<double> walk_s_of;  // per thread of the team: seconds it walked of that thread's slots
   };
   std::vector<ThreadLists> per_thread_;
   // Per thread: how many of the slots it sorted have been claimed for the walk (by it or by others).
@@ -70,7 +71,8 @@ class ConjunctionDetector {
     std::atomic<std::size_t> claimed{0};
   };
   std::vector<WalkCursor> walk_cursors_;
-  WalkSharing sharing_;  // whether threads help walk each other's regions (walk_sharing.hpp)
+  WalkSharing sharing_;                // whether threads help walk each other's regions (walk_sharing.hpp)
+  std::vector<double> region_cost_s_;  // scratch: each region's cost in the last scan
 };
 
 }  // namespace kessler
