@@ -248,6 +248,45 @@ TEST(BroadPhaseGrid, RegionsBalanceTheThreadsAndKeepEveryPairAcrossTheirBorders)
   omp_set_num_threads(saved);
 }
 
+TEST(BroadPhaseGrid, RegionsWhoseSlotsCostMoreGetFewerAndTheSamePairs) {
+  // The same 4,000 objects on 2 threads, with region 1's slots reported to cost twice region 0's (a
+  // slower core, denser cells): after a few scans region 1 holds clearly fewer slots, and every pair
+  // is still found once.
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(2);
+  const StateArrays s = dense_population(4000, 3.0e5, 6, 1.6e6);
+  BroadPhaseGrid grid;
+  expect_grid_matches_all_pairs(s, 10.0, 5000.0, &grid);
+  auto share_of_region_1 = [&] {
+    const auto [first, last] = grid.sorted_slots(1, 2);
+    return static_cast<double>(last - first) / static_cast<double>(grid.slot_count());
+  };
+  EXPECT_NEAR(share_of_region_1(), 0.5, 0.1);
+  for (int scan = 0; scan < 40; ++scan) {
+    double cost_s[2];
+    for (std::size_t r = 0; r < 2; ++r) {
+      const auto [first, last] = grid.sorted_slots(r, 2);
+      cost_s[r] = (r == 1 ? 2e-8 : 1e-8) * static_cast<double>(last - first);
+    }
+    grid.record_region_costs(cost_s, 2);
+    std::size_t listed = 0;
+    grid_pairs(grid, s, 10.0, 5000.0, listed);
+  }
+  EXPECT_LT(share_of_region_1(), 0.42);  // a third, within a cell column
+  EXPECT_GT(share_of_region_1(), 0.2);
+  expect_grid_matches_all_pairs(s, 10.0, 5000.0, &grid);
+  // Costs from a team that is not one thread per region say nothing of the regions.
+  const double share = share_of_region_1();
+  const double skewed[3] = {1.0, 100.0, 1.0};
+  for (int scan = 0; scan < 10; ++scan) {
+    grid.record_region_costs(skewed, 3);
+    std::size_t listed = 0;
+    grid_pairs(grid, s, 10.0, 5000.0, listed);
+  }
+  EXPECT_NEAR(share_of_region_1(), share, 0.05);
+  omp_set_num_threads(saved);
+}
+
 TEST(BroadPhaseGrid, FarOutObjectsStayOutOfTheGridAndMeetOnlyWhatTheirBoxesReach) {
   // Real catalogs hold a few objects far out (the paper's, some at ~10^12 m). There rounding to floats
   // widens a box by ~240 km a side: still under the motion bound at dt 30 s, so kept in the grid they
