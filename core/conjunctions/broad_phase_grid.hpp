@@ -58,12 +58,13 @@
 // next-column rows, on its own lines; the box itself walks only its own column's. (Walked from the
 // last column, the border's rows took the other core's bucket-table and slot lines, and its next sort
 // took them back: 2 threads far apart sorted 81 ms a thread against 64 for the one whose rows were not
-// read, leo-19647's quarter day.) The borders between the slabs hold equal
-// shares of the objects: quantiles of a histogram of the lower x corners of the last build's boxes
-// (every 4th object; a first build, which keys after the barrier anyway, takes its own), each moved to
-// the nearest column edge; the histogram's bins span the last one's central 99 %, since catalogs hold
-// a few objects far out (the paper's, some at 10^12 m). Only the balance between threads depends on the
-// borders: the candidates are the same for any borders.
+// read, leo-19647's quarter day.) The borders between the slabs give each region a share of the
+// objects inverse to its measured cost per slot (record_region_costs: its sort and walks, smoothed over
+// scans; equal shares until measured): quantiles of a histogram of the lower x corners of the last
+// build's boxes (every 4th object; a first build, which keys after the barrier anyway, takes its own),
+// each moved to the nearest column edge; the histogram's bins span the last one's central 99 %, since
+// catalogs hold a few objects far out (the paper's, some at 10^12 m). Only the balance between threads
+// depends on the borders: the candidates are the same for any borders.
 // (A linear bucket function, x cx + y cy + z, which puts neighbour rows at fixed offsets, was measured
 // and did not pay: 149.7 vs 145.5 ns per object-step at 320k, equal at 19,647.)
 //
