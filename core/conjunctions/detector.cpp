@@ -120,7 +120,6 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
     lists.events.clear();
     lists.collected_at = t_begin;
     lists.own_slots = lists.helped_slots = 0;
-    lists.own_s = lists.helped_s = 0.0;
     lists.walk_s_of.assign(static_cast<std::size_t>(threads), 0.0);
   }
   std::size_t team_size = 0;  // the team OpenMP gave the region
@@ -173,10 +172,8 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
       }
       if (walked > 0) {
         ThreadLists& me = per_thread_[t];
-        const double walked_s = omp_get_wtime() - visit_start;
         (d == 0 ? me.own_slots : me.helped_slots) += walked;
-        (d == 0 ? me.own_s : me.helped_s) += walked_s;
-        me.walk_s_of[owner] += walked_s;
+        me.walk_s_of[owner] += omp_get_wtime() - visit_start;
       }
     }
     const std::int64_t oversized = static_cast<std::int64_t>(grid_.oversized_count());
@@ -205,26 +202,29 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
   }
   timeline.region_end();
   double t_grid = t_begin;
-  std::size_t total = 0, pairs = 0, own_slots = 0, helped_slots = 0;
-  double own_s = 0.0, helped_s = 0.0;
+  std::size_t total = 0, pairs = 0;
   for (const ThreadLists& lists : per_thread_) {
     t_grid = std::max(t_grid, lists.collected_at);
     total += lists.events.size();
     pairs += lists.candidates.size();
-    own_slots += lists.own_slots;
-    helped_slots += lists.helped_slots;
-    own_s += lists.own_s;
-    helped_s += lists.helped_s;
   }
   if (threads > 1 && team_size == static_cast<std::size_t>(threads)) {
-    sharing_.record(own_slots, own_s, helped_slots, helped_s);
+    std::size_t own_slots = 0, helped_slots = 0;
+    double own_s = 0.0, helped_s = 0.0;
     // Each thread's run of slots (its region, with a thread per region): its sort and all its walks.
     std::vector<double>& cost = region_cost_s_;
     cost.assign(team_size, 0.0);
     for (std::size_t u = 0; u < team_size; ++u) {
+      const ThreadLists& lists = per_thread_[u];
+      own_slots += lists.own_slots;
+      helped_slots += lists.helped_slots;
       cost[u] += grid_.last_sort_s(u);
-      for (std::size_t w = 0; w < team_size; ++w) cost[u] += per_thread_[w].walk_s_of[u];
+      for (std::size_t w = 0; w < team_size; ++w) {
+        cost[w] += lists.walk_s_of[w];
+        (w == u ? own_s : helped_s) += lists.walk_s_of[w];
+      }
     }
+    sharing_.record(own_slots, own_s, helped_slots, helped_s);
     grid_.record_region_costs(cost.data(), team_size);
   }
   const std::size_t first = out.size();

@@ -60,10 +60,10 @@ class ConjunctionDetector {
     std::vector<CandidatePair> candidates;
     std::vector<Encounter> events;
     double collected_at = 0.0;  // when its candidates were complete
-    // The slots it walked of its own region and of others', and the seconds each took.
+    // The slots it walked of its own region and of others'; per thread of the team, the seconds it
+    // walked of that thread's slots (its own: walk_s_of[t]).
     std::size_t own_slots = 0, helped_slots = 0;
-    double own_s = 0.0, helped_s = 0.0;
-    std::vector<double> walk_s_of;  // per thread of the team: seconds it walked of that thread's slots
+    std::vector<double> walk_s_of;
   };
   std::vector<ThreadLists> per_thread_;
   // Per thread: how many of the slots it sorted have been claimed for the walk (by it or by others).

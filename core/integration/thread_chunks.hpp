@@ -34,9 +34,9 @@ inline ThreadChunk thread_chunk(std::size_t n, std::size_t thread, std::size_t t
 // breakup's decaying objects sit together; leo-19647 holds 111 of its 115 low objects in its second
 // half). With chunks of equal size, the team evened that out by stealing blocks, whose lines then
 // moved between cores twice (the thief's writes, then the owner's box pass), and the threads still
-// finished up to a block apart. The layout is the propagator's, handed to the passes after it (burn-up,
-// the grid's boxes) so that each thread still reads the states its own core wrote. Only which core
-// handles an object depends on it, never a result.
+// finished up to a block apart. The layout is the propagator's, handed to the grid's box pass through
+// StepEnds so that each thread still reads the states its own core wrote. Only which core handles an
+// object depends on it, never a result.
 class ChunkLayout {
  public:
   // Equal chunks (thread_chunk) of n objects for `team` threads.
@@ -60,17 +60,14 @@ class ChunkLayout {
     std::size_t below = 0;  // costly objects below the current start
     for (std::size_t t = 1; t < team; ++t) {
       const double target = total * static_cast<double>(t) / static_cast<double>(team);
-      // The first i whose prefix cost reaches the target, with `below` costly objects under it.
-      std::size_t i = 0;
-      for (;;) {
-        const double before = target - extra_cost * static_cast<double>(below);
-        i = before <= 0.0 ? 0 : static_cast<std::size_t>(before);
-        if (below < heavy && static_cast<std::size_t>(costly[below]) < i) {
-          ++below;
-          continue;
-        }
-        break;
-      }
+      // Where the prefix cost reaches the target if `below` costly objects lie under it; each costly
+      // object found under that start moves it down by extra_cost.
+      auto start_with = [&](std::size_t costly_below) {
+        const double ordinary = target - extra_cost * static_cast<double>(costly_below);
+        return ordinary <= 0.0 ? std::size_t{0} : static_cast<std::size_t>(ordinary);
+      };
+      std::size_t i = start_with(below);
+      while (below < heavy && static_cast<std::size_t>(costly[below]) < i) i = start_with(++below);
       i = std::min(i, n) / kChunkAlign * kChunkAlign;
       starts_[t] = std::max(starts_[t - 1], i);
     }
@@ -97,14 +94,8 @@ inline ThreadChunk thread_chunk(const ChunkLayout* layout, std::size_t n, std::s
 // block changes no result where each object's arithmetic depends on that object alone.
 class ChunkBlocks {
  public:
-  // Before the region (one thread): equal chunks of n objects for `team` threads, in blocks of `block`
-  // (rounded up to a multiple of kChunkAlign, so that blocks start on a vector boundary too).
-  void reset(std::size_t n, std::size_t team, std::size_t block) {
-    ChunkLayout layout;
-    layout.even(n, team);
-    reset(layout, block);
-  }
-  // The same for the chunks of `layout`.
+  // Before the region (one thread): the chunks of `layout`, one per thread of its team, in blocks of
+  // `block` (rounded up to a multiple of kChunkAlign, so that blocks start on a vector boundary too).
   void reset(const ChunkLayout& layout, std::size_t block) {
     const std::size_t team = layout.team();
     block = (block + kChunkAlign - 1) / kChunkAlign * kChunkAlign;

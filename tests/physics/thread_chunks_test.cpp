@@ -15,8 +15,10 @@ namespace {
 // also counts the blocks each thread took from its own chunk.
 std::vector<int> times_taken(std::size_t n, std::size_t team, std::size_t block, int running,
                              std::vector<std::size_t>* own_blocks = nullptr) {
+  ChunkLayout equal;
+  equal.even(n, team);
   ChunkBlocks blocks;
-  blocks.reset(n, team, block);
+  blocks.reset(equal, block);
   std::vector<int> taken(n, 0);
   std::vector<std::size_t> own(team, 0);
 #pragma omp parallel num_threads(running)
