@@ -45,6 +45,9 @@ constexpr double kHistogramMargin = 0.125;
 // the regions' mean (either way).
 constexpr double kRegionCostSmoothing = 0.125;
 constexpr double kRegionCostSpread = 1.5;
+// The same for each thread's cost per object in the passes over its chunk (pass_chunk).
+constexpr double kChunkCostSmoothing = 0.125;
+constexpr double kChunkCostSpread = 1.5;
 // The counting sort's coarse partitions (top bits of the bucket): at most 256.
 constexpr std::size_t kMaxPartitions = 256;
 // The cell edge over the largest box edge: room for the next step's boxes to grow a little, so the
@@ -368,6 +371,7 @@ void BroadPhaseGrid::prepare(std::size_t n, int threads) {
   thread_edge_.resize(team);
   thread_occupied_.resize(team);
   thread_sort_s_.resize(team);
+  thread_pass_.resize(team);
   if (regions_ != costed_regions_) {  // costs measured for other regions say nothing of these
     std::fill(std::begin(cost_per_slot_s_), std::end(cost_per_slot_s_), 0.0);
     costed_regions_ = regions_;
@@ -425,7 +429,8 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   if (threads > prepared_threads_) throw std::logic_error("BroadPhaseGrid: team larger than prepared");
   // Each thread owns the chunk of objects whose end states the propagator wrote on this core
   // (thread_chunks.hpp), so the first pass reads what this core holds.
-  const auto [begin, end] = thread_chunk(step.chunks, n, t, threads);
+  const auto [begin, end] = pass_chunk(step.chunks, n, t, threads);
+  const double pass_start_s = omp_get_wtime();
   // The cell edges guessed from the last step (read by every thread before anyone may change them):
   // along y and z, and the columns' along x (no larger).
   const double guess = next_cell_m_, guess_column = next_column_m_;
@@ -536,6 +541,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   timeline.mark(t, kDetEdges);
   if (guess > 0.0) key_chunk(guess_column, guess);
   timeline.mark(t, kDetKeys);
+  double pass_s = omp_get_wtime() - pass_start_s;  // the passes over this thread's chunk
 #pragma omp barrier
   timeline.mark(t, kDetWaitBoxes);
   // Every thread takes the same maximum over the chunks (exact: no order dependence).
@@ -633,6 +639,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       hist_width_m_ = bin_width;
     }
   }
+  const double scatter_start_s = omp_get_wtime();
   // Coarse scatter of this thread's boxes into its own region of scratch_ (regions in thread order),
   // grouped by partition: whole records, read back in sequence by the partition's sorter.
   {
@@ -690,6 +697,8 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       scatter(std::false_type{});
   }
   timeline.mark(t, kDetScatter);
+  pass_s += omp_get_wtime() - scatter_start_s;
+  thread_pass_[t] = ThreadPass{pass_s, end - begin};
 #pragma omp barrier
   timeline.mark(t, kDetWaitScatter);
   const double sort_start_s = omp_get_wtime();
@@ -813,6 +822,48 @@ void BroadPhaseGrid::record_region_costs(const double* seconds, std::size_t team
   mean /= static_cast<double>(regions_);
   for (std::size_t r = 0; r < regions_; ++r)
     cost_per_slot_s_[r] = std::clamp(smoothed[r], mean / kRegionCostSpread, mean * kRegionCostSpread);
+}
+
+ThreadChunk BroadPhaseGrid::pass_chunk(const ChunkLayout* layout, std::size_t n, std::size_t t,
+                                       std::size_t team) const {
+  if (team < 2 || team != costed_chunk_team_) return thread_chunk(layout, n, t, team);
+  // Chunk u's objects weighted by 1 / its thread's cost per object: chunk k starts where the weighted
+  // objects below it make k / team of the whole. Every thread computes the same starts.
+  double below_t = 0.0, below_next = 0.0, total = 0.0;
+  for (std::size_t u = 0; u < team; ++u) {
+    const ThreadChunk c = thread_chunk(layout, n, u, team);
+    const double weighted = static_cast<double>(c.end - c.begin) / chunk_cost_per_object_s_[u];
+    if (u < t) below_t += weighted;
+    if (u <= t) below_next += weighted;
+    total += weighted;
+  }
+  auto start = [&](double weighted_below) {
+    const auto i = static_cast<std::size_t>(static_cast<double>(n) * (weighted_below / total));
+    return std::min(n, i) / kChunkAlign * kChunkAlign;
+  };
+  return {t == 0 ? 0 : start(below_t), t + 1 == team ? n : start(below_next)};
+}
+
+void BroadPhaseGrid::record_pass_costs(const double* seconds, const std::size_t* objects, std::size_t team) {
+  if (team < 2) return;
+  for (std::size_t u = 0; u < team; ++u)
+    if (objects[u] == 0 || !(seconds[u] > 0.0)) return;  // a chunk emptied: keep the last costs
+  if (team != costed_chunk_team_) {  // costs measured with another team say nothing of this one's
+    chunk_cost_per_object_s_.assign(team, 0.0);
+    costed_chunk_team_ = team;
+  }
+  double mean = 0.0;
+  for (std::size_t u = 0; u < team; ++u) {
+    const double per_object = seconds[u] / static_cast<double>(objects[u]);
+    double& cost = chunk_cost_per_object_s_[u];
+    cost = cost > 0.0 ? cost + kChunkCostSmoothing * (per_object - cost) : per_object;
+    mean += cost;
+  }
+  mean /= static_cast<double>(team);
+  // No thread's cost beyond kChunkCostSpread times the mean either way (a stalled step must not empty a
+  // chunk).
+  for (double& cost : chunk_cost_per_object_s_)
+    cost = std::clamp(cost, mean / kChunkCostSpread, mean * kChunkCostSpread);
 }
 
 bool BroadPhaseGrid::slots_sorted(std::size_t t, std::size_t threads) const {

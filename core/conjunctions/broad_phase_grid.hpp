@@ -171,6 +171,19 @@ class BroadPhaseGrid {
   // so that a region whose slots cost more (denser cells, a slower or busier core, the ghosts it holds)
   // gets fewer. Only the balance between threads depends on it, never a result.
   void record_region_costs(const double* seconds, std::size_t team);
+  // Seconds thread t spent in the last build's passes over its chunk of objects (boxes, keys, counts,
+  // scatter), and that chunk's objects.
+  double last_pass_s(std::size_t t) const { return thread_pass_[t].seconds; }
+  std::size_t last_pass_objects(std::size_t t) const { return thread_pass_[t].objects; }
+  // The passes over objects take each thread's chunk: the propagator's (each core reads the states it
+  // wrote), resized so that the threads finish them together: a core slower at them (a busier one, or
+  // one whose cache another tenant shares) gets fewer objects. Each chunk is weighted by 1 / its
+  // thread's cost per object in those passes, recorded after each build (seconds and objects per
+  // thread of a team), smoothed over builds, and clamped within 1.5x of the team's mean; the
+  // propagator's chunks until measured, and for a team of one. Only which core handles an object
+  // depends on it, never a result: the chunks stay contiguous and in order.
+  void record_pass_costs(const double* seconds, const std::size_t* objects, std::size_t team);
+  ThreadChunk pass_chunk(const ChunkLayout* layout, std::size_t n, std::size_t t, std::size_t team) const;
   // An object's hull (by population index) as of the last build with_hulls (Hermite motion only).
   const HermiteHull& hull(std::size_t i) const { return hull_[i]; }
 
@@ -383,6 +396,13 @@ class BroadPhaseGrid {
   std::vector<std::uint32_t> thread_occupied_;
   std::size_t occupancy_team_ = 0;
   std::vector<double> thread_sort_s_;  // per thread: the last build's sort [s]
+  struct alignas(64) ThreadPass {
+    double seconds = 0.0;     // the last build's passes over its chunk
+    std::size_t objects = 0;  // in its chunk
+  };
+  std::vector<ThreadPass> thread_pass_;
+  std::vector<double> chunk_cost_per_object_s_;  // per thread, smoothed, for a team of costed_chunk_team_
+  std::size_t costed_chunk_team_ = 0;            // 0: none measured
   // Per region: its smoothed cost per slot [s] (0: none measured yet), for regions_ == costed_regions_.
   double cost_per_slot_s_[kMaxRegions] = {};
   std::size_t costed_regions_ = 0;

@@ -287,6 +287,49 @@ TEST(BroadPhaseGrid, RegionsWhoseSlotsCostMoreGetFewerAndTheSamePairs) {
   omp_set_num_threads(saved);
 }
 
+TEST(BroadPhaseGrid, AThreadSlowerAtThePassesOverObjectsGetsAShorterChunkAndTheSamePairs) {
+  // The same 4,000 objects on 2 threads, with thread 1 reported to spend twice as long per object in
+  // the passes over its chunk (a busier core): after a few builds its chunk holds about a third of the
+  // objects, the chunks still tile the population in order, and every pair is still found once.
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(2);
+  const StateArrays s = dense_population(4000, 3.0e5, 6, 1.6e6);
+  const std::size_t n = s.size();
+  BroadPhaseGrid grid;
+  expect_grid_matches_all_pairs(s, 10.0, 5000.0, &grid);
+  auto chunks_tile_in_order = [&] {
+    const ThreadChunk first = grid.pass_chunk(nullptr, n, 0, 2), second = grid.pass_chunk(nullptr, n, 1, 2);
+    EXPECT_EQ(first.begin, 0u);
+    EXPECT_EQ(first.end, second.begin);
+    EXPECT_EQ(second.end, n);
+    EXPECT_EQ(second.begin % kChunkAlign, 0u);
+    return static_cast<double>(second.end - second.begin) / static_cast<double>(n);
+  };
+  EXPECT_NEAR(chunks_tile_in_order(), 0.5, 0.01);  // none recorded: the propagator's (here equal) chunks
+  for (int build = 0; build < 40; ++build) {
+    double seconds[2];
+    std::size_t objects[2];
+    for (std::size_t t = 0; t < 2; ++t) {
+      const ThreadChunk c = grid.pass_chunk(nullptr, n, t, 2);
+      objects[t] = c.end - c.begin;
+      seconds[t] = (t == 1 ? 2e-8 : 1e-8) * static_cast<double>(objects[t]);
+    }
+    grid.record_pass_costs(seconds, objects, 2);
+  }
+  EXPECT_NEAR(chunks_tile_in_order(), 1.0 / 3.0, 0.01);
+  expect_grid_matches_all_pairs(s, 10.0, 5000.0, &grid);
+  // A team of another size starts afresh: its chunks are the propagator's until measured.
+  const double seconds[3] = {1.0, 1.0, 1.0};
+  const std::size_t objects[3] = {1000, 1000, 2000};
+  grid.record_pass_costs(seconds, objects, 3);
+  EXPECT_NEAR(chunks_tile_in_order(), 0.5, 0.01);
+  // An empty chunk's report is ignored.
+  const std::size_t none[2] = {4000, 0};
+  grid.record_pass_costs(seconds, none, 2);
+  EXPECT_NEAR(chunks_tile_in_order(), 0.5, 0.01);
+  omp_set_num_threads(saved);
+}
+
 TEST(BroadPhaseGrid, FarOutObjectsStayOutOfTheGridAndMeetOnlyWhatTheirBoxesReach) {
   // Real catalogs hold a few objects far out (the paper's, some at ~10^12 m). There rounding to floats
   // widens a box by ~240 km a side: still under the motion bound at dt 30 s, so kept in the grid they
