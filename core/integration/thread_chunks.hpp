@@ -1,7 +1,8 @@
 // How a step's objects are shared between the threads of a team: one contiguous chunk each, objects
 // [n t / team, n (t + 1) / team). The propagator, the burn-up test and the detector's grid all split
-// this way, so each core reads back the states it wrote itself: a line another core wrote costs several
-// times more to read, and writing a line another core has read costs more still.
+// this way (the grid moves the borders by its threads' measured costs: BroadPhaseGrid::pass_chunk), so
+// each core reads back the states it wrote itself: a line another core wrote costs several times more
+// to read, and writing a line another core has read costs more still.
 #pragma once
 
 #include <algorithm>
