@@ -428,7 +428,8 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
   if (threads > prepared_threads_) throw std::logic_error("BroadPhaseGrid: team larger than prepared");
   // Each thread owns the chunk of objects whose end states the propagator wrote on this core
-  // (thread_chunks.hpp), so the first pass reads what this core holds.
+  // (thread_chunks.hpp), so the first pass reads what this core holds; its borders moved by the
+  // threads' measured costs (pass_chunk).
   const auto [begin, end] = pass_chunk(step.chunks, n, t, threads);
   const double pass_start_s = omp_get_wtime();
   // The cell edges guessed from the last step (read by every thread before anyone may change them):
