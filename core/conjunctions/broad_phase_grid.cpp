@@ -41,13 +41,26 @@ constexpr float kFarOut_m = 1.0e9f;
 // 99 % widened by kHistogramMargin of that on each side.
 constexpr std::size_t kHistogramStride = 4;
 constexpr double kHistogramMargin = 0.125;
-// The regions' costs per slot: one scan's weight in the smoothed cost, and the most it may differ from
-// the regions' mean (either way).
-constexpr double kRegionCostSmoothing = 0.125;
-constexpr double kRegionCostSpread = 1.5;
-// The same for each thread's cost per object in the passes over its chunk (pass_chunk).
-constexpr double kChunkCostSmoothing = 0.125;
-constexpr double kChunkCostSpread = 1.5;
+// Measured costs that share out the work (the regions' per slot, the passes' per object): one scan's
+// weight in the smoothed cost, and the most it may differ from the team's mean (either way: a stalled
+// thread, a page fault in one step, must not empty a region or a chunk).
+constexpr double kCostSmoothing = 0.125;
+constexpr double kCostSpread = 1.5;
+
+// costs[0, count) each moved by kCostSmoothing towards measured(i) (set to it where still 0), then
+// clamped within kCostSpread of their mean.
+template <typename Measured>
+void smooth_costs(double* costs, std::size_t count, Measured measured) {
+  double mean = 0.0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const double now = measured(i);
+    costs[i] = costs[i] > 0.0 ? costs[i] + kCostSmoothing * (now - costs[i]) : now;
+    mean += costs[i];
+  }
+  mean /= static_cast<double>(count);
+  for (std::size_t i = 0; i < count; ++i)
+    costs[i] = std::clamp(costs[i], mean / kCostSpread, mean * kCostSpread);
+}
 // The counting sort's coarse partitions (top bits of the bucket): at most 256.
 constexpr std::size_t kMaxPartitions = 256;
 // The cell edge over the largest box edge: room for the next step's boxes to grow a little, so the
@@ -808,21 +821,14 @@ std::pair<std::size_t, std::size_t> BroadPhaseGrid::sorted_slots(std::size_t t, 
 
 void BroadPhaseGrid::record_region_costs(const double* seconds, std::size_t team) {
   if (team != regions_ || regions_ < 2) return;  // each thread's run a region: else not one region's
-  double smoothed[kMaxRegions];
   for (std::size_t r = 0; r < regions_; ++r) {
     const auto [first, last] = sorted_slots(r, team);
     if (last <= first || !(seconds[r] > 0.0)) return;
-    const double per_slot = seconds[r] / static_cast<double>(last - first);
-    const double before = cost_per_slot_s_[r];
-    smoothed[r] = before > 0.0 ? before + kRegionCostSmoothing * (per_slot - before) : per_slot;
   }
-  // No region's cost per slot beyond kRegionCostSpread times another's (a stalled thread, a page fault
-  // in one step, must not empty a region).
-  double mean = 0.0;
-  for (std::size_t r = 0; r < regions_; ++r) mean += smoothed[r];
-  mean /= static_cast<double>(regions_);
-  for (std::size_t r = 0; r < regions_; ++r)
-    cost_per_slot_s_[r] = std::clamp(smoothed[r], mean / kRegionCostSpread, mean * kRegionCostSpread);
+  smooth_costs(cost_per_slot_s_, regions_, [&](std::size_t r) {
+    const auto [first, last] = sorted_slots(r, team);
+    return seconds[r] / static_cast<double>(last - first);
+  });
 }
 
 ThreadChunk BroadPhaseGrid::pass_chunk(const ChunkLayout* layout, std::size_t n, std::size_t t,
@@ -845,26 +851,29 @@ ThreadChunk BroadPhaseGrid::pass_chunk(const ChunkLayout* layout, std::size_t n,
   return {t == 0 ? 0 : start(below_t), t + 1 == team ? n : start(below_next)};
 }
 
-void BroadPhaseGrid::record_pass_costs(const double* seconds, const std::size_t* objects, std::size_t team) {
+template <typename Seconds, typename Objects>
+void BroadPhaseGrid::record_pass_costs_of(std::size_t team, Seconds seconds, Objects objects) {
   if (team < 2) return;
   for (std::size_t u = 0; u < team; ++u)
-    if (objects[u] == 0 || !(seconds[u] > 0.0)) return;  // a chunk emptied: keep the last costs
+    if (objects(u) == 0 || !(seconds(u) > 0.0)) return;  // a chunk emptied: keep the last costs
   if (team != costed_chunk_team_) {  // costs measured with another team say nothing of this one's
     chunk_cost_per_object_s_.assign(team, 0.0);
     costed_chunk_team_ = team;
   }
-  double mean = 0.0;
-  for (std::size_t u = 0; u < team; ++u) {
-    const double per_object = seconds[u] / static_cast<double>(objects[u]);
-    double& cost = chunk_cost_per_object_s_[u];
-    cost = cost > 0.0 ? cost + kChunkCostSmoothing * (per_object - cost) : per_object;
-    mean += cost;
-  }
-  mean /= static_cast<double>(team);
-  // No thread's cost beyond kChunkCostSpread times the mean either way (a stalled step must not empty a
-  // chunk).
-  for (double& cost : chunk_cost_per_object_s_)
-    cost = std::clamp(cost, mean / kChunkCostSpread, mean * kChunkCostSpread);
+  smooth_costs(chunk_cost_per_object_s_.data(), team,
+               [&](std::size_t u) { return seconds(u) / static_cast<double>(objects(u)); });
+}
+
+void BroadPhaseGrid::record_pass_costs(const double* seconds, const std::size_t* objects, std::size_t team) {
+  record_pass_costs_of(
+      team, [&](std::size_t u) { return seconds[u]; }, [&](std::size_t u) { return objects[u]; });
+}
+
+void BroadPhaseGrid::record_pass_costs(std::size_t team) {
+  if (team > thread_pass_.size()) return;
+  record_pass_costs_of(
+      team, [&](std::size_t u) { return thread_pass_[u].seconds; },
+      [&](std::size_t u) { return thread_pass_[u].objects; });
 }
 
 bool BroadPhaseGrid::slots_sorted(std::size_t t, std::size_t threads) const {

@@ -171,18 +171,16 @@ class BroadPhaseGrid {
   // so that a region whose slots cost more (denser cells, a slower or busier core, the ghosts it holds)
   // gets fewer. Only the balance between threads depends on it, never a result.
   void record_region_costs(const double* seconds, std::size_t team);
-  // Seconds thread t spent in the last build's passes over its chunk of objects (boxes, keys, counts,
-  // scatter), and that chunk's objects.
-  double last_pass_s(std::size_t t) const { return thread_pass_[t].seconds; }
-  std::size_t last_pass_objects(std::size_t t) const { return thread_pass_[t].objects; }
-  // The passes over objects take each thread's chunk: the propagator's (each core reads the states it
-  // wrote), resized so that the threads finish them together: a core slower at them (a busier one, or
-  // one whose cache another tenant shares) gets fewer objects. Each chunk is weighted by 1 / its
-  // thread's cost per object in those passes, recorded after each build (seconds and objects per
-  // thread of a team), smoothed over builds, and clamped within 1.5x of the team's mean; the
-  // propagator's chunks until measured, and for a team of one. Only which core handles an object
-  // depends on it, never a result: the chunks stay contiguous and in order.
+  // The passes over objects (boxes, keys, counts, scatter) take each thread's chunk: the propagator's (each
+  // core reads the states it wrote), resized so that the threads finish them together: a core slower at them
+  // (a busier one, or one whose cache another tenant shares) gets fewer objects. Each chunk is weighted by 1
+  // / its thread's cost per object in those passes, recorded after each build (seconds and objects per thread
+  // of a team), smoothed over builds, and clamped within 1.5x of the team's mean; the propagator's chunks
+  // until measured, and for a team of one. Only which core handles an object depends on it, never a result:
+  // the chunks stay contiguous and in order.
   void record_pass_costs(const double* seconds, const std::size_t* objects, std::size_t team);
+  // The same with this grid's last build (after a scan whose team was the one asked for).
+  void record_pass_costs(std::size_t team);
   ThreadChunk pass_chunk(const ChunkLayout* layout, std::size_t n, std::size_t t, std::size_t team) const;
   // An object's hull (by population index) as of the last build with_hulls (Hermite motion only).
   const HermiteHull& hull(std::size_t i) const { return hull_[i]; }
@@ -401,6 +399,8 @@ class BroadPhaseGrid {
     std::size_t objects = 0;  // in its chunk
   };
   std::vector<ThreadPass> thread_pass_;
+  template <typename Seconds, typename Objects>
+  void record_pass_costs_of(std::size_t team, Seconds seconds, Objects objects);
   std::vector<double> chunk_cost_per_object_s_;  // per thread, smoothed, for a team of costed_chunk_team_
   std::size_t costed_chunk_team_ = 0;            // 0: none measured
   // Per region: its smoothed cost per slot [s] (0: none measured yet), for regions_ == costed_regions_.

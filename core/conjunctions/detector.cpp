@@ -226,14 +226,7 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
     }
     sharing_.record(own_slots, own_s, helped_slots, helped_s);
     grid_.record_region_costs(cost.data(), team_size);
-    // Each thread's passes over its chunk of objects, for the next chunks.
-    pass_s_.resize(team_size);
-    pass_objects_.resize(team_size);
-    for (std::size_t u = 0; u < team_size; ++u) {
-      pass_s_[u] = grid_.last_pass_s(u);
-      pass_objects_[u] = grid_.last_pass_objects(u);
-    }
-    grid_.record_pass_costs(pass_s_.data(), pass_objects_.data(), team_size);
+    grid_.record_pass_costs(team_size);  // each thread's passes over its chunk, for the next chunks
   }
   const std::size_t first = out.size();
   out.reserve(first + total);

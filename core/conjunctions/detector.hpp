@@ -73,8 +73,6 @@ class ConjunctionDetector {
   std::vector<WalkCursor> walk_cursors_;
   WalkSharing sharing_;                // whether threads help walk each other's regions (walk_sharing.hpp)
   std::vector<double> region_cost_s_;  // scratch: each region's cost in the last scan
-  std::vector<double> pass_s_;         // scratch: each thread's passes over its chunk in the last scan
-  std::vector<std::size_t> pass_objects_;
 };
 
 }  // namespace kessler
