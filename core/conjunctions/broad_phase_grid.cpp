@@ -851,29 +851,25 @@ ThreadChunk BroadPhaseGrid::pass_chunk(const ChunkLayout* layout, std::size_t n,
   return {t == 0 ? 0 : start(below_t), t + 1 == team ? n : start(below_next)};
 }
 
-template <typename Seconds, typename Objects>
-void BroadPhaseGrid::record_pass_costs_of(std::size_t team, Seconds seconds, Objects objects) {
-  if (team < 2) return;
+void BroadPhaseGrid::record_pass_costs(const double* seconds, const std::size_t* objects, std::size_t team) {
+  // Reported as if this grid's last build had measured them.
+  if (team > thread_pass_.size()) thread_pass_.resize(team);
+  for (std::size_t u = 0; u < team; ++u) thread_pass_[u] = ThreadPass{seconds[u], objects[u]};
+  record_pass_costs(team);
+}
+
+void BroadPhaseGrid::record_pass_costs(std::size_t team) {
+  if (team < 2 || team > thread_pass_.size()) return;
+  // A chunk emptied (or not timed): keep the last costs.
   for (std::size_t u = 0; u < team; ++u)
-    if (objects(u) == 0 || !(seconds(u) > 0.0)) return;  // a chunk emptied: keep the last costs
+    if (thread_pass_[u].objects == 0 || !(thread_pass_[u].seconds > 0.0)) return;
   if (team != costed_chunk_team_) {  // costs measured with another team say nothing of this one's
     chunk_cost_per_object_s_.assign(team, 0.0);
     costed_chunk_team_ = team;
   }
-  smooth_costs(chunk_cost_per_object_s_.data(), team,
-               [&](std::size_t u) { return seconds(u) / static_cast<double>(objects(u)); });
-}
-
-void BroadPhaseGrid::record_pass_costs(const double* seconds, const std::size_t* objects, std::size_t team) {
-  record_pass_costs_of(
-      team, [&](std::size_t u) { return seconds[u]; }, [&](std::size_t u) { return objects[u]; });
-}
-
-void BroadPhaseGrid::record_pass_costs(std::size_t team) {
-  if (team > thread_pass_.size()) return;
-  record_pass_costs_of(
-      team, [&](std::size_t u) { return thread_pass_[u].seconds; },
-      [&](std::size_t u) { return thread_pass_[u].objects; });
+  smooth_costs(chunk_cost_per_object_s_.data(), team, [&](std::size_t u) {
+    return thread_pass_[u].seconds / static_cast<double>(thread_pass_[u].objects);
+  });
 }
 
 bool BroadPhaseGrid::slots_sorted(std::size_t t, std::size_t threads) const {

@@ -178,9 +178,10 @@ class BroadPhaseGrid {
   // of a team), smoothed over builds, and clamped within 1.5x of the team's mean; the propagator's chunks
   // until measured, and for a team of one. Only which core handles an object depends on it, never a result:
   // the chunks stay contiguous and in order.
-  void record_pass_costs(const double* seconds, const std::size_t* objects, std::size_t team);
-  // The same with this grid's last build (after a scan whose team was the one asked for).
+  // From this grid's last build (after a scan whose team was the one asked for).
   void record_pass_costs(std::size_t team);
+  // The same with the given seconds and objects per thread, in place of the last build's.
+  void record_pass_costs(const double* seconds, const std::size_t* objects, std::size_t team);
   ThreadChunk pass_chunk(const ChunkLayout* layout, std::size_t n, std::size_t t, std::size_t team) const;
   // An object's hull (by population index) as of the last build with_hulls (Hermite motion only).
   const HermiteHull& hull(std::size_t i) const { return hull_[i]; }
@@ -399,8 +400,6 @@ class BroadPhaseGrid {
     std::size_t objects = 0;  // in its chunk
   };
   std::vector<ThreadPass> thread_pass_;
-  template <typename Seconds, typename Objects>
-  void record_pass_costs_of(std::size_t team, Seconds seconds, Objects objects);
   std::vector<double> chunk_cost_per_object_s_;  // per thread, smoothed, for a team of costed_chunk_team_
   std::size_t costed_chunk_team_ = 0;            // 0: none measured
   // Per region: its smoothed cost per slot [s] (0: none measured yet), for regions_ == costed_regions_.
