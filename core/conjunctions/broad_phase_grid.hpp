@@ -178,11 +178,12 @@ class BroadPhaseGrid {
   // of a team), smoothed over builds, and clamped within 1.5x of the team's mean; the propagator's chunks
   // until measured, and for a team of one. Only which core handles an object depends on it, never a result:
   // the chunks stay contiguous and in order.
-  // From this grid's last build (after a scan whose team was the one asked for).
+  // Thread t's chunk of the n objects: thread_chunk's (the propagator's layout), moved by the recorded costs.
+  ThreadChunk pass_chunk(const ChunkLayout* layout, std::size_t n, std::size_t t, std::size_t team) const;
+  // Records the costs from this grid's last build (after a scan whose team was the one asked for).
   void record_pass_costs(std::size_t team);
   // The same with the given seconds and objects per thread, in place of the last build's.
   void record_pass_costs(const double* seconds, const std::size_t* objects, std::size_t team);
-  ThreadChunk pass_chunk(const ChunkLayout* layout, std::size_t n, std::size_t t, std::size_t team) const;
   // An object's hull (by population index) as of the last build with_hulls (Hermite motion only).
   const HermiteHull& hull(std::size_t i) const { return hull_[i]; }
 
