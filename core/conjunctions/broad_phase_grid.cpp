@@ -309,6 +309,19 @@ double flag_oversized(const BoxPassOutput& boxes, char* oversized_out, std::size
   return largest;
 }
 
+// The extent histogram's bins: bin 0 holds |corner| below kExtentFirst_m, bin b > 0 up to
+// kExtentFirst_m 2^(b / 4), the last one everything beyond.
+constexpr double kExtentFirst_m = 1.0e3;
+constexpr double kExtentTail = 0.005;
+inline std::size_t extent_bin(float r_m) {
+  if (!(r_m >= kExtentFirst_m)) return 0;
+  const double b = 1.0 + std::floor(4.0 * std::log2(r_m / kExtentFirst_m));
+  return b >= 63.0 ? 63 : static_cast<std::size_t>(b);
+}
+inline double extent_bin_top_m(std::size_t b) {
+  return kExtentFirst_m * std::exp2(0.25 * static_cast<double>(b));
+}
+
 // counts[0, size) replaced by their running sum from `first` (the sum of those before each, plus first).
 // With AVX-512, 16 at a time (a scan in a register: 4 shifted adds), where the one-at-a-time loop's
 // chain of dependent adds took ~6 % of the build; the sort's partitions hold a multiple of 64 buckets,
@@ -395,6 +408,7 @@ void BroadPhaseGrid::prepare(std::size_t n, int threads) {
   for (auto& cursor : thread_bucket_cursor_) cursor.resize(std::size_t{1} << fine_bits_);
   hist_.resize(kHistogramBins);
   thread_hist_.resize(team * kHistogramBins);
+  thread_extent_hist_.resize(team * kExtentBins);
   prepared_threads_ = team;
 }
 
@@ -448,6 +462,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   // The cell edges guessed from the last step (read by every thread before anyone may change them):
   // along y and z, and the columns' along x (no larger).
   const double guess = next_cell_m_, guess_column = next_column_m_;
+  const double extent_m = next_extent_m_;
   // Read before the first barrier: a thread that reads it later may find it grown by another.
   const std::size_t slot_capacity = slot_capacity_;
   std::uint32_t* counts = &coarse_count_[t * partitions];
@@ -481,13 +496,21 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     for (std::size_t s = 0; s + 1 < regions; ++s)
       map.first_column[s] =
           static_cast<std::uint32_t>(axis_cell(borders_m[s] + 0.5 * column, inverse_column));
+    map.order = cell_order(extent_m, column, cell, map);
     // The borders the key pass compares with: none with one region, one with two (2 threads), else all.
-    if (regions == 1)
-      key_boxes<0>(inverse_column, 1.0 / cell, map, begin, end);
-    else if (regions == 2)
-      key_boxes<1>(inverse_column, 1.0 / cell, map, begin, end);
+    auto key = [&](auto in_order) {
+      constexpr bool kInOrder = decltype(in_order)::value;
+      if (regions == 1)
+        key_boxes<0, kInOrder>(inverse_column, 1.0 / cell, map, begin, end);
+      else if (regions == 2)
+        key_boxes<1, kInOrder>(inverse_column, 1.0 / cell, map, begin, end);
+      else
+        key_boxes<kMaxRegions - 1, kInOrder>(inverse_column, 1.0 / cell, map, begin, end);
+    };
+    if (map.order.row_stride != 0)
+      key(std::true_type{});
     else
-      key_boxes<kMaxRegions - 1>(inverse_column, 1.0 / cell, map, begin, end);
+      key(std::false_type{});
     std::uint32_t local_counts[kMaxPartitions] = {};
     for (std::size_t i = begin; i < end; ++i) {
       if (oversized_flag_[i]) continue;
@@ -523,6 +546,18 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   my_oversized.clear();
   for_each_flagged(oversized_flags, begin, end,
                    [&](std::size_t i) { my_oversized.push_back(static_cast<std::uint32_t>(i)); });
+  {
+    // How far the population spreads (for the next build's cell order): |lower corner| of every
+    // kExtentStride-th object, binned by powers of 2^(1/4) from kExtentFirst_m.
+    std::uint32_t local_hist[kExtentBins] = {};
+    for (std::size_t i = begin; i < end; i += kExtentStride) {
+      if (oversized_flags[i]) continue;
+      const float r =
+          std::max(std::fabs(box_lo_[0][i]), std::max(std::fabs(box_lo_[1][i]), std::fabs(box_lo_[2][i])));
+      ++local_hist[extent_bin(r)];
+    }
+    std::copy(local_hist, local_hist + kExtentBins, &thread_extent_hist_[t * kExtentBins]);
+  }
   if (regions > 1) {
     // The histogram of the lower x corners for the regions' borders, on every kHistogramStride-th
     // object (the borders only balance the threads' work: no result depends on them).
@@ -614,6 +649,21 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   if (t == 0) {
     cell_size_m_ = cell;
     column_width_m_ = column;
+    cell_order_ = map.order;  // the final keys'
+    {
+      // The next build's extent: twice the radius (largest |corner| coordinate) that holds all but
+      // kExtentTail of the sampled objects.
+      std::uint32_t total = 0, cumulative = 0;
+      for (std::size_t b = 0; b < kExtentBins; ++b)
+        for (std::size_t u = 0; u < threads; ++u) total += thread_extent_hist_[u * kExtentBins + b];
+      for (std::size_t b = 0; b < kExtentBins && total > 0; ++b) {
+        for (std::size_t u = 0; u < threads; ++u) cumulative += thread_extent_hist_[u * kExtentBins + b];
+        if (cumulative >= (1.0 - kExtentTail) * total) {
+          next_extent_m_ = 2.0 * extent_bin_top_m(b);
+          break;
+        }
+      }
+    }
     ++builds_;
     if (!fits) ++rekeyed_builds_;
     // Next step's guess: the largest box edge times the coarsening (this step's cell while that fits
@@ -775,7 +825,30 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   timeline.mark(t, kDetSort);
 }
 
-template <std::size_t kBorders>
+BroadPhaseGrid::CellOrder BroadPhaseGrid::cell_order(double extent_m, double column_m, double cell_m,
+                                                     const RegionMap& regions) const {
+  const double region_buckets = static_cast<double>(region_mask_ + 1);
+  const double cells_yz = std::ceil(extent_m / cell_m) + 2.0;
+  if (!(cells_yz * cells_yz <= region_buckets)) return {};
+  // The widest region's columns (the borders' columns, within the extent's).
+  const double inverse_column = 1.0 / column_m;
+  const std::uint64_t first = axis_cell(-0.5 * extent_m, inverse_column),
+                      last = axis_cell(0.5 * extent_m, inverse_column) + 1;
+  std::uint64_t widest = 0, from = first;
+  for (std::size_t s = 0; s + 1 < regions_; ++s) {
+    const std::uint64_t to = std::clamp<std::uint64_t>(regions.first_column[s], from, last);
+    widest = std::max(widest, to - from);
+    from = to;
+  }
+  widest = std::max(widest, last - from) + 2;
+  if (!(static_cast<double>(widest) * cells_yz * cells_yz <= region_buckets)) return {};
+  const auto row = static_cast<std::uint64_t>(cells_yz);
+  const std::uint64_t first_yz = axis_cell(-0.5 * extent_m, 1.0 / cell_m);
+  // The first cell of the extent's cube goes to bucket 0 (unsigned arithmetic wraps as the mask does).
+  return {row * row, row, 0 - (first * row * row + first_yz * row + first_yz)};
+}
+
+template <std::size_t kBorders, bool kInOrder>
 void BroadPhaseGrid::key_boxes(double inverse_column_m, double inverse_cell_m, const RegionMap& regions,
                                std::size_t begin, std::size_t end) {
   // Local restrict copies of every pointer and value, so the loop vectorises (see grow_boxes).
@@ -805,10 +878,11 @@ void BroadPhaseGrid::key_boxes(double inverse_column_m, double inverse_cell_m, c
       const std::uint64_t region = map.region_of<kBorders>(cx);
       const bool ghosted = crosses_x && map.region_of<kBorders>(cx + 1) != region;
       crosses[i] = static_cast<std::uint8_t>(bits | (ghosted ? kGhosted : 0u));
-      buckets[i] = static_cast<std::uint32_t>((region << map.region_bits) | bucket_in_region(key));
+      buckets[i] = static_cast<std::uint32_t>((region << map.region_bits) |
+                                              bucket_in_region<kInOrder>(key, map.order));
     } else {
       crosses[i] = static_cast<std::uint8_t>(bits);
-      buckets[i] = static_cast<std::uint32_t>(bucket_in_region(key));
+      buckets[i] = static_cast<std::uint32_t>(bucket_in_region<kInOrder>(key, map.order));
     }
   }
 }
@@ -1192,8 +1266,10 @@ void BroadPhaseGrid::pair_with_buckets(std::size_t k, std::size_t region, std::s
 void BroadPhaseGrid::collect_pairs(std::size_t slot_begin, std::size_t slot_end,
                                    std::vector<CandidatePair>& out) const {
   HitBatch hits;
+  const bool in_order = cell_order_.row_stride != 0;
   if (regions_ == 1) {
-    collect_pairs_in(slot_begin, slot_end, 0, hits, out);
+    in_order ? collect_pairs_in<true>(slot_begin, slot_end, 0, hits, out)
+             : collect_pairs_in<false>(slot_begin, slot_end, 0, hits, out);
   } else {
     // Region by region (each holds a contiguous run of slots, its ghosts among them), so the region of
     // every row a slot looks up is known.
@@ -1201,14 +1277,21 @@ void BroadPhaseGrid::collect_pairs(std::size_t slot_begin, std::size_t slot_end,
       const std::size_t region = r << region_bits_;
       const std::size_t first = std::max<std::size_t>(slot_begin, bucket_start_[region]);
       const std::size_t last = std::min<std::size_t>(slot_end, bucket_start_[region + region_mask_ + 1]);
-      if (first < last) collect_pairs_in(first, last, region, hits, out);
+      if (first < last)
+        in_order ? collect_pairs_in<true>(first, last, region, hits, out)
+                 : collect_pairs_in<false>(first, last, region, hits, out);
     }
   }
   filter_hits(hits, out);
 }
 
+template <bool kInOrder>
 void BroadPhaseGrid::collect_pairs_in(std::size_t slot_begin, std::size_t slot_end, std::size_t region,
                                       HitBatch& hits, std::vector<CandidatePair>& out) const {
+  // In order, the forward rows' buckets are at fixed offsets from the cell's own.
+  const CellOrder order = cell_order_;
+  const std::uint64_t row_offsets[4] = {order.row_stride, order.plane_stride - order.row_stride,
+                                        order.plane_stride, order.plane_stride + order.row_stride};
   for (std::size_t k = slot_begin; k < slot_end; ++k) {
     const std::uint64_t key = slot_key_[k];
     const std::uint32_t crosses = slot_crosses_[k];
@@ -1218,8 +1301,8 @@ void BroadPhaseGrid::collect_pairs_in(std::size_t slot_begin, std::size_t slot_e
     // region. `walks` has kGhost set for the slots that walk their own column.
     const std::uint32_t walks = crosses ^ kGhost;
     // Own row: the same cell (slots after k) and the next z cell, in buckets b and b + 1.
-    if (walks & kGhost)
-      pair_with_buckets(k, region, bucket_in_region(key), z_cells - 1, k + 1, key, 1, hits, out);
+    const std::size_t own = bucket_in_region<kInOrder>(key, order);
+    if (walks & kGhost) pair_with_buckets(k, region, own, z_cells - 1, k + 1, key, 1, hits, out);
     // The forward rows, z cells -1..+1: buckets b' - 1 .. b' + 1. Rows at y + 1 only if the box
     // reaches into the next y cell, rows at x + 1 only if it reaches into the next x cell (in this
     // region: a box whose next column is another region's has dropped kCrossesX, and its ghost there
@@ -1228,7 +1311,8 @@ void BroadPhaseGrid::collect_pairs_in(std::size_t slot_begin, std::size_t slot_e
       const std::uint32_t needs = kForwardRowNeeds[r] | (r == 0 ? kGhost : 0u);
       if ((walks & needs) != needs) continue;
       const std::uint64_t centre = key + kForwardRows[r];
-      const std::size_t first = (bucket_in_region(centre) - 1) & region_mask_;
+      const std::size_t first =
+          ((kInOrder ? own + row_offsets[r] : bucket_in_region<false>(centre, order)) - 1) & region_mask_;
       // Many neighbour rows are empty: the occupancy bitmap answers.
       if (!any_occupied(region, first, z_cells)) continue;
       pair_with_buckets(k, region, first, z_cells, 0, centre - 1, z_cells - 1, hits, out);

@@ -59,15 +59,16 @@ double closest_distance(const StateArrays& s, std::size_t i, std::size_t j, doub
   return std::sqrt(distance2(0.5 * (a + b)));
 }
 
-// Objects around (7000 km, 0, 0) in a cube of `extent_m` (or a box `x_extent_m` long in x), at LEO
+// Objects around (centre_x_m, 0, 0) in a cube of `extent_m` (or a box `x_extent_m` long in x), at LEO
 // speeds in random directions.
-StateArrays dense_population(std::size_t n, double extent_m, unsigned seed, double x_extent_m = 0.0) {
+StateArrays dense_population(std::size_t n, double extent_m, unsigned seed, double x_extent_m = 0.0,
+                             double centre_x_m = 7.0e6) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-0.5, 0.5);
   StateArrays s;
   s.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    s.x[i] = 7.0e6 + (x_extent_m > 0.0 ? x_extent_m : extent_m) * u(rng);
+    s.x[i] = centre_x_m + (x_extent_m > 0.0 ? x_extent_m : extent_m) * u(rng);
     s.y[i] = extent_m * u(rng);
     s.z[i] = extent_m * u(rng);
     s.vx[i] = 15000.0 * u(rng);
@@ -199,6 +200,35 @@ TEST(BroadPhaseGrid, ManyRegionsKeepNarrowColumnsAndCoarsenOnlyYAndZ) {
   expect_grid_matches_all_pairs(sparse, 10.0, 20000.0, &grid, false);
   EXPECT_LT(grid.column_width_m(), 1.06 * edge_cell);  // held at the largest box (within the slack)
   EXPECT_GT(grid.cell_size_m(), 1.8 * edge_cell);      // y and z coarsened
+  omp_set_num_threads(saved);
+}
+
+TEST(BroadPhaseGrid, CellsInSpatialOrderGiveTheSamePairs) {
+  // Clouds around the origin, a few cells across: once a build has measured how far the objects spread,
+  // the next lays the cells out in order (x, then y, then z) instead of hashing the rows. The clouds
+  // above, 7,000 km out, span too many cells for the table and stay hashed. Every build lists exactly
+  // the overlapping pairs, each once, and the same pairs for 1, 2, 4 and 7 threads.
+  const int saved = omp_get_max_threads();
+  for (const StateArrays& s :
+       {dense_population(3000, 4.0e5, 8, 0.0, 0.0), dense_population(4000, 3.0e5, 9, 8.0e5, 0.0)}) {
+    omp_set_num_threads(1);
+    BroadPhaseGrid grid;
+    expect_grid_matches_all_pairs(s, 10.0, 5000.0, &grid);
+    EXPECT_FALSE(grid.cells_in_order());  // the default extent, the Earth's orbits, is too large
+    expect_grid_matches_all_pairs(s, 10.0, 5000.0, &grid);
+    EXPECT_TRUE(grid.cells_in_order());
+    std::size_t listed = 0;
+    const auto one = grid_pairs(grid, s, 10.0, 5000.0, listed);
+    for (int threads : {2, 4, 7}) {
+      omp_set_num_threads(threads);
+      BroadPhaseGrid team_grid;
+      grid_pairs(team_grid, s, 10.0, 5000.0, listed);
+      EXPECT_EQ(grid_pairs(team_grid, s, 10.0, 5000.0, listed), one)
+          << s.size() << " objects, " << threads << " threads";
+      EXPECT_EQ(listed, one.size()) << threads << " threads: a pair listed twice";
+      EXPECT_TRUE(team_grid.cells_in_order()) << threads << " threads";
+    }
+  }
   omp_set_num_threads(saved);
 }
 
