@@ -507,7 +507,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       else
         key_boxes<kMaxRegions - 1, kInOrder>(inverse_column, 1.0 / cell, map, begin, end);
     };
-    if (map.order.row_stride != 0)
+    if (map.order.in_order())
       key(std::true_type{});
     else
       key(std::false_type{});
@@ -653,11 +653,12 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     {
       // The next build's extent: twice the radius (largest |corner| coordinate) that holds all but
       // kExtentTail of the sampled objects.
-      std::uint32_t total = 0, cumulative = 0;
-      for (std::size_t b = 0; b < kExtentBins; ++b)
-        for (std::size_t u = 0; u < threads; ++u) total += thread_extent_hist_[u * kExtentBins + b];
+      std::uint32_t bins[kExtentBins] = {}, total = 0, cumulative = 0;
+      for (std::size_t u = 0; u < threads; ++u)
+        for (std::size_t b = 0; b < kExtentBins; ++b) bins[b] += thread_extent_hist_[u * kExtentBins + b];
+      for (std::size_t b = 0; b < kExtentBins; ++b) total += bins[b];
       for (std::size_t b = 0; b < kExtentBins && total > 0; ++b) {
-        for (std::size_t u = 0; u < threads; ++u) cumulative += thread_extent_hist_[u * kExtentBins + b];
+        cumulative += bins[b];
         if (cumulative >= (1.0 - kExtentTail) * total) {
           next_extent_m_ = 2.0 * extent_bin_top_m(b);
           break;
@@ -1266,7 +1267,7 @@ void BroadPhaseGrid::pair_with_buckets(std::size_t k, std::size_t region, std::s
 void BroadPhaseGrid::collect_pairs(std::size_t slot_begin, std::size_t slot_end,
                                    std::vector<CandidatePair>& out) const {
   HitBatch hits;
-  const bool in_order = cell_order_.row_stride != 0;
+  const bool in_order = cells_in_order();
   if (regions_ == 1) {
     in_order ? collect_pairs_in<true>(slot_begin, slot_end, 0, hits, out)
              : collect_pairs_in<false>(slot_begin, slot_end, 0, hits, out);

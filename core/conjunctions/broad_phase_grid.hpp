@@ -211,7 +211,7 @@ class BroadPhaseGrid {
   std::size_t builds() const { return builds_; }
   std::size_t rekeyed_builds() const { return rekeyed_builds_; }
   // Whether the last build laid its cells out in spatial order (else it hashed the rows).
-  bool cells_in_order() const { return cell_order_.row_stride != 0; }
+  bool cells_in_order() const { return cell_order_.in_order(); }
 
  private:
   // The walk's box hits waiting for the chord filter and the cell-key check: slot k (self) with slot
@@ -261,6 +261,7 @@ class BroadPhaseGrid {
   // otherwise cell (x, y, z) goes to x plane_stride + y row_stride + z.
   struct CellOrder {
     std::uint64_t plane_stride = 0, row_stride = 0, origin = 0;
+    bool in_order() const { return row_stride != 0; }
   };
   struct RegionMap {
     // The first cell column of regions 1, 2, ... (padded with the largest value: never reached).
@@ -311,8 +312,8 @@ class BroadPhaseGrid {
     }
   }
   std::size_t bucket_in_region(std::uint64_t cell_key, const CellOrder& order) const {
-    return order.row_stride != 0 ? bucket_in_region<true>(cell_key, order)
-                                 : bucket_in_region<false>(cell_key, order);
+    return order.in_order() ? bucket_in_region<true>(cell_key, order)
+                            : bucket_in_region<false>(cell_key, order);
   }
   std::size_t bucket_in_region(std::uint64_t cell_key) const {
     return bucket_in_region(cell_key, cell_order_);
