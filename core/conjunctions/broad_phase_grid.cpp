@@ -1268,9 +1268,12 @@ void BroadPhaseGrid::collect_pairs(std::size_t slot_begin, std::size_t slot_end,
                                    std::vector<CandidatePair>& out) const {
   HitBatch hits;
   const bool in_order = cells_in_order();
+  auto collect_in = [&](std::size_t first, std::size_t last, std::size_t region) {
+    in_order ? collect_pairs_in<true>(first, last, region, hits, out)
+             : collect_pairs_in<false>(first, last, region, hits, out);
+  };
   if (regions_ == 1) {
-    in_order ? collect_pairs_in<true>(slot_begin, slot_end, 0, hits, out)
-             : collect_pairs_in<false>(slot_begin, slot_end, 0, hits, out);
+    collect_in(slot_begin, slot_end, 0);
   } else {
     // Region by region (each holds a contiguous run of slots, its ghosts among them), so the region of
     // every row a slot looks up is known.
@@ -1278,9 +1281,7 @@ void BroadPhaseGrid::collect_pairs(std::size_t slot_begin, std::size_t slot_end,
       const std::size_t region = r << region_bits_;
       const std::size_t first = std::max<std::size_t>(slot_begin, bucket_start_[region]);
       const std::size_t last = std::min<std::size_t>(slot_end, bucket_start_[region + region_mask_ + 1]);
-      if (first < last)
-        in_order ? collect_pairs_in<true>(first, last, region, hits, out)
-                 : collect_pairs_in<false>(first, last, region, hits, out);
+      if (first < last) collect_in(first, last, region);
     }
   }
   filter_hits(hits, out);

@@ -294,9 +294,9 @@ class BroadPhaseGrid {
   }
   // A cell's bucket is its region's first bucket (RegionMap::base) plus bucket_in_region: its place in
   // spatial order, or a hash of its row (x, y), plus its z cell, so the cells of a row along z fall in
-  // consecutive buckets of one region
-  // (and, sorted by bucket, in consecutive slots): the three z neighbours of a cell are one contiguous
-  // range (wrapping inside the region), usually on one cache line of the bucket table.
+  // consecutive buckets of one region (and, sorted by bucket, in consecutive slots): the three z
+  // neighbours of a cell are one contiguous range (wrapping inside the region), usually on one cache
+  // line of the bucket table.
   static std::uint64_t column_of(std::uint64_t cell_key) { return cell_key >> (2 * kRowShift); }
   // A cell's bucket counted from its region's first.
   template <bool kInOrder>
@@ -314,9 +314,6 @@ class BroadPhaseGrid {
   std::size_t bucket_in_region(std::uint64_t cell_key, const CellOrder& order) const {
     return order.in_order() ? bucket_in_region<true>(cell_key, order)
                             : bucket_in_region<false>(cell_key, order);
-  }
-  std::size_t bucket_in_region(std::uint64_t cell_key) const {
-    return bucket_in_region(cell_key, cell_order_);
   }
   // The cell order for cells `column` wide along x and `cell` along y and z, when the population's
   // lower corners span about `extent_m` on each axis.
