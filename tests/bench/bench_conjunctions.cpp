@@ -74,9 +74,10 @@ int run(int argc, char** argv) {
   StateArrays start_states;
   for (std::int64_t s = 0; s < steps; ++s) {
     const double t0 = static_cast<double>(s) * dt;
-    start_states = population.state;
+    // The start states are copied in the propagator's own pass, as the simulation does: each thread
+    // copies the chunk it propagates, so the detector's passes read them on the core that wrote them.
     const double propagate_start = now_s();
-    propagator.step(population, t0, dt);
+    propagator.step_keeping_start(population, t0, dt, start_states);
     propagate_s += now_s() - propagate_start;
     const StepEnds step{t0, dt, &start_states, &population.state, propagator.last_chunks()};
     for (int rep = 0; rep < repeats; ++rep) {
