@@ -361,6 +361,7 @@ void BroadPhaseGrid::prepare(std::size_t n, int threads) {
   box_flags_.resize(n);
   hull_.resize(n);
   oversized_flag_.resize(n);
+  scratch_.resize(2 * n);
   ensure_slot_capacity(n);
   // One region per thread (at most kMaxRegions). At least 2 buckets per object in all, a power of two
   // per region: occupied cells hold 4-8 objects where the coarsening can reach that (load ~1/16), and
@@ -422,7 +423,6 @@ void BroadPhaseGrid::ensure_slot_capacity(std::size_t slots) {
   slot_key_.resize(slot_capacity_);
   slot_crosses_.resize(slot_capacity_);
   slot_index_.resize(slot_capacity_);
-  scratch_.resize(slot_capacity_);
 }
 
 void BroadPhaseGrid::build(const StepEnds& step, NarrowPhase motion, const ThresholdShare& share,
@@ -588,129 +588,12 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   }
   thread_edge_[t] = largest_edge;
   timeline.mark(t, kDetEdges);
-  if (guess > 0.0) key_chunk(guess_column, guess);
-  timeline.mark(t, kDetKeys);
-  double pass_s = omp_get_wtime() - pass_start_s;  // the passes over this thread's chunk
-#pragma omp barrier
-  timeline.mark(t, kDetWaitBoxes);
-  // Every thread takes the same maximum over the chunks (exact: no order dependence).
-  double largest = 0.0;
-  for (std::size_t u = 0; u < threads; ++u) largest = std::max(largest, thread_edge_[u]);
-  double cell = guess, column = guess_column;
-  // 1e-9: rounding of the keys
-  const bool fits = guess > 0.0 && largest * (1.0 + 1e-9) <= std::min(guess, guess_column);
-  // Bin b of this build's histogram, over all threads' chunks.
-  auto summed_bin = [&](std::size_t b) {
-    std::uint32_t total = 0;
-    for (std::size_t u = 0; u < threads; ++u) total += thread_hist_[u * kHistogramBins + b];
-    return total;
-  };
-  if (!fits) {
-    // The guess is too small (or there is none): key again with a cell of this step's largest edge.
-    cell = column = std::max(largest, 1.0) * (1.0 + kCellMargin);
-    if (regions > 1) {
-      // The borders from this build's histogram, all threads' (rare: only the first build needs it).
-      std::uint32_t hist[kHistogramBins];
-      for (std::size_t b = 0; b < kHistogramBins; ++b) hist[b] = summed_bin(b);
-      region_borders_m(hist, kHistogramBins, bin_origin, bin_width, regions, shares, borders_m);
-    }
-    key_chunk(column, cell);
-#pragma omp barrier
-  }
-  if (regions > 1) {
-    // This build's histogram, summed over the threads for the next build's borders: a slice of the bins
-    // each (every thread has read the last one by now).
-    for (std::size_t b = kHistogramBins * t / threads; b < kHistogramBins * (t + 1) / threads; ++b)
-      hist_[b] = summed_bin(b);
-  }
-  timeline.mark(t, kDetRekey);
 
-  // Slots: partitions in order, inside a partition the threads' groups in thread order (so population
-  // order within each bucket, whatever the thread count). Every thread reads all counts and computes
-  // the layout itself (no serial section).
-  const auto [p_begin, p_end] = partition_run(t, threads);
-  std::uint32_t total_slots = 0;  // objects in the grid and ghosts
-  for (std::size_t p = 0; p < partitions; ++p) {
-    if (p >= p_begin && p < p_end) {  // each thread writes its own
-      partition_start_[p] = total_slots;
-      // The partition's first bucket start, before any sort: the walk of the region below it reads it
-      // as the end of its last bucket, and may begin before this partition is sorted.
-      bucket_start_[p * fine_buckets] = total_slots;
-    }
-    for (std::size_t u = 0; u < threads; ++u) total_slots += coarse_count_[u * partitions + p];
-  }
-  if (t + 1 == threads) bucket_start_[buckets] = total_slots;
-  if (total_slots > slot_capacity) {
-    // More ghosts than the arrays have room for (every thread sees the same total and capacity, so all
-    // of them come here): nobody reads or writes the arrays until the scatter below.
-#pragma omp single
-    ensure_slot_capacity(total_slots);
-  }
-  if (t == 0) {
-    cell_size_m_ = cell;
-    column_width_m_ = column;
-    cell_order_ = map.order;  // the final keys'
-    {
-      // The next build's extent: twice the radius (largest |corner| coordinate) that holds all but
-      // kExtentTail of the sampled objects.
-      std::uint32_t bins[kExtentBins] = {}, total = 0, cumulative = 0;
-      for (std::size_t u = 0; u < threads; ++u)
-        for (std::size_t b = 0; b < kExtentBins; ++b) bins[b] += thread_extent_hist_[u * kExtentBins + b];
-      for (std::size_t b = 0; b < kExtentBins; ++b) total += bins[b];
-      for (std::size_t b = 0; b < kExtentBins && total > 0; ++b) {
-        cumulative += bins[b];
-        if (cumulative >= (1.0 - kExtentTail) * total) {
-          next_extent_m_ = 2.0 * extent_bin_top_m(b);
-          break;
-        }
-      }
-    }
-    ++builds_;
-    if (!fits) ++rekeyed_builds_;
-    // Next step's guess: the largest box edge times the coarsening (this step's cell while that fits
-    // and is not much larger). The coarsening follows the last build's objects per occupied cell
-    // (its sort is done; this one's has not begun).
-    std::size_t occupied = 0;
-    for (std::size_t u = 0; u < occupancy_team_; ++u) occupied += thread_occupied_[u];
-    occupancy_team_ = threads;
-    coarsening_ = next_coarsening(coarsening_, slots_in_grid_, occupied);
-    // This build's, read by the walks (no barrier after the sort), so set before the scatter's.
-    slots_in_grid_ = total_slots;
-    oversized_.clear();  // in population order (the chunks are in order)
-    for (std::size_t u = 0; u < threads; ++u)
-      oversized_.insert(oversized_.end(), thread_oversized_[u].begin(), thread_oversized_[u].end());
-    for (std::size_t r = 0; r < regions; ++r)
-      region_progress_[r].partitions_sorted.store(0, std::memory_order_relaxed);
-    const double needed = std::max(largest, 1.0) * (1.0 + kCellMargin);
-    const double wanted = needed * coarsening_;
-    // With several regions the columns stay narrow enough for each region to keep a few (the borders
-    // fall on column edges), and only y and z coarsen past that: the cells' volume, and so the objects
-    // per cell the walk wants, no longer shrinks as the team grows (at 16 threads, leo-19647's cells
-    // were held at the largest box edge, 1.4 objects each, and the walk took 1.9x one thread's share).
-    double wanted_column = wanted;
-    if (regions > 1) {
-      // The central 99 % of the lower x corners, from this build's bins (histogram_bins_m).
-      const double span_m = static_cast<double>(kHistogramBins) * bin_width / (1.0 + 2.0 * kHistogramMargin);
-      wanted_column =
-          std::min(wanted, std::max(needed, span_m / (kMinColumnsPerRegion * static_cast<double>(regions))));
-    }
-    auto keep_or = [&](double now, double target) {
-      return (fits && now >= target && now <= target * kCellShrinkRatio) ? now : target;
-    };
-    next_cell_m_ = keep_or(cell, wanted);
-    next_column_m_ = keep_or(column, wanted_column);
-    if (regions > 1) {
-      hist_origin_m_ = bin_origin;  // the bins this build's histogram is made of
-      hist_width_m_ = bin_width;
-    }
-  }
-  const double scatter_start_s = omp_get_wtime();
-  // Coarse scatter of this thread's boxes into its own region of scratch_ (regions in thread order),
-  // grouped by partition: whole records, read back in sequence by the partition's sorter.
-  {
-    std::uint32_t at = 0;
-    for (std::size_t u = 0; u < t; ++u)
-      for (std::size_t p = 0; p < partitions; ++p) at += coarse_count_[u * partitions + p];
+  // Coarse scatter of this thread's boxes into its own part of scratch_, [2 begin, 2 end), grouped by
+  // partition: whole records, read back in sequence by the partition's sorter. It needs this chunk's
+  // counts alone, so it runs before the barrier.
+  auto scatter_chunk = [&] {
+    std::uint32_t at = static_cast<std::uint32_t>(2 * begin);
     std::uint32_t* group = &group_start_[t * partitions];
     std::uint32_t cursor[kMaxPartitions];
     for (std::size_t p = 0; p < partitions; ++p) {
@@ -760,12 +643,140 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       scatter(std::true_type{});
     else
       scatter(std::false_type{});
-  }
+  };
+  // With the guessed cell, when this chunk's boxes fit it: keys, then the scatter (a chunk that does not
+  // fit means that every thread keys again after the barrier).
+  const bool own_fits = guess > 0.0 && largest_edge * (1.0 + 1e-9) <= std::min(guess, guess_column);
+  if (own_fits) key_chunk(guess_column, guess);
+  timeline.mark(t, kDetKeys);
+  if (own_fits) scatter_chunk();
   timeline.mark(t, kDetScatter);
-  pass_s += omp_get_wtime() - scatter_start_s;
-  thread_pass_[t] = ThreadPass{pass_s, end - begin};
+  if (t == 0) {
+    // Before the barrier, what depends on the last build alone (the sorts after it change both).
+    // The coarsening follows the last build's objects per occupied cell.
+    std::size_t occupied = 0;
+    for (std::size_t u = 0; u < occupancy_team_; ++u) occupied += thread_occupied_[u];
+    occupancy_team_ = threads;
+    coarsening_ = next_coarsening(coarsening_, slots_in_grid_, occupied);
+    for (std::size_t r = 0; r < regions; ++r)
+      region_progress_[r].partitions_sorted.store(0, std::memory_order_relaxed);
+    layout_ready_->count.store(0, std::memory_order_relaxed);
+  }
+  double pass_s = omp_get_wtime() - pass_start_s;  // the passes over this thread's chunk
 #pragma omp barrier
-  timeline.mark(t, kDetWaitScatter);
+  timeline.mark(t, kDetWaitBoxes);
+  // Every thread takes the same maximum over the chunks (exact: no order dependence).
+  double largest = 0.0;
+  for (std::size_t u = 0; u < threads; ++u) largest = std::max(largest, thread_edge_[u]);
+  double cell = guess, column = guess_column;
+  // 1e-9: rounding of the keys
+  const bool fits = guess > 0.0 && largest * (1.0 + 1e-9) <= std::min(guess, guess_column);
+  // Bin b of this build's histogram, over all threads' chunks.
+  auto summed_bin = [&](std::size_t b) {
+    std::uint32_t total = 0;
+    for (std::size_t u = 0; u < threads; ++u) total += thread_hist_[u * kHistogramBins + b];
+    return total;
+  };
+  if (!fits) {
+    // The guess is too small (or there is none): key and scatter again with a cell of this step's
+    // largest edge.
+    const double rekey_start_s = omp_get_wtime();
+    cell = column = std::max(largest, 1.0) * (1.0 + kCellMargin);
+    if (regions > 1) {
+      // The borders from this build's histogram, all threads' (rare: only the first build needs it).
+      std::uint32_t hist[kHistogramBins];
+      for (std::size_t b = 0; b < kHistogramBins; ++b) hist[b] = summed_bin(b);
+      region_borders_m(hist, kHistogramBins, bin_origin, bin_width, regions, shares, borders_m);
+    }
+    key_chunk(column, cell);
+    scatter_chunk();
+    pass_s += omp_get_wtime() - rekey_start_s;
+#pragma omp barrier
+  }
+  thread_pass_[t] = ThreadPass{pass_s, end - begin};
+  if (regions > 1) {
+    // This build's histogram, summed over the threads for the next build's borders: a slice of the bins
+    // each (every thread has read the last one by now).
+    for (std::size_t b = kHistogramBins * t / threads; b < kHistogramBins * (t + 1) / threads; ++b)
+      hist_[b] = summed_bin(b);
+  }
+
+  // Slots: partitions in order, inside a partition the threads' groups in thread order (so population
+  // order within each bucket, whatever the thread count). Every thread reads all counts and computes
+  // the layout itself (no serial section).
+  const auto [p_begin, p_end] = partition_run(t, threads);
+  std::uint32_t total_slots = 0;  // objects in the grid and ghosts
+  for (std::size_t p = 0; p < partitions; ++p) {
+    if (p >= p_begin && p < p_end) {  // each thread writes its own
+      partition_start_[p] = total_slots;
+      // The partition's first bucket start, before any sort: the walk of the region below it reads it
+      // as the end of its last bucket, and may begin before this partition is sorted (once every
+      // thread has counted itself in layout_ready_ below).
+      bucket_start_[p * fine_buckets] = total_slots;
+    }
+    for (std::size_t u = 0; u < threads; ++u) total_slots += coarse_count_[u * partitions + p];
+  }
+  if (t + 1 == threads) bucket_start_[buckets] = total_slots;
+  layout_ready_->count.fetch_add(1, std::memory_order_release);
+  if (total_slots > slot_capacity) {
+    // More ghosts than the arrays have room for (every thread sees the same total and capacity, so all
+    // of them come here): nobody reads or writes the arrays until the sort below.
+#pragma omp single
+    ensure_slot_capacity(total_slots);
+  }
+  if (t == 0) {
+    cell_size_m_ = cell;
+    column_width_m_ = column;
+    cell_order_ = map.order;  // the final keys'
+    {
+      // The next build's extent: twice the radius (largest |corner| coordinate) that holds all but
+      // kExtentTail of the sampled objects.
+      std::uint32_t bins[kExtentBins] = {}, total = 0, cumulative = 0;
+      for (std::size_t u = 0; u < threads; ++u)
+        for (std::size_t b = 0; b < kExtentBins; ++b) bins[b] += thread_extent_hist_[u * kExtentBins + b];
+      for (std::size_t b = 0; b < kExtentBins; ++b) total += bins[b];
+      for (std::size_t b = 0; b < kExtentBins && total > 0; ++b) {
+        cumulative += bins[b];
+        if (cumulative >= (1.0 - kExtentTail) * total) {
+          next_extent_m_ = 2.0 * extent_bin_top_m(b);
+          break;
+        }
+      }
+    }
+    ++builds_;
+    if (!fits) ++rekeyed_builds_;
+    slots_in_grid_ = total_slots;
+    oversized_.clear();  // in population order (the chunks are in order)
+    for (std::size_t u = 0; u < threads; ++u)
+      oversized_.insert(oversized_.end(), thread_oversized_[u].begin(), thread_oversized_[u].end());
+    // Next step's guess: the largest box edge times the coarsening (this step's cell while that fits
+    // and is not much larger; the coarsening was set before the barrier).
+    const double needed = std::max(largest, 1.0) * (1.0 + kCellMargin);
+    const double wanted = needed * coarsening_;
+    // With several regions the columns stay narrow enough for each region to keep a few (the borders
+    // fall on column edges), and only y and z coarsen past that: the cells' volume, and so the objects
+    // per cell the walk wants, no longer shrinks as the team grows (at 16 threads, leo-19647's cells
+    // were held at the largest box edge, 1.4 objects each, and the walk took 1.9x one thread's share).
+    double wanted_column = wanted;
+    if (regions > 1) {
+      // The central 99 % of the lower x corners, from this build's bins (histogram_bins_m).
+      const double span_m = static_cast<double>(kHistogramBins) * bin_width / (1.0 + 2.0 * kHistogramMargin);
+      wanted_column =
+          std::min(wanted, std::max(needed, span_m / (kMinColumnsPerRegion * static_cast<double>(regions))));
+    }
+    auto keep_or = [&](double now, double target) {
+      return (fits && now >= target && now <= target * kCellShrinkRatio) ? now : target;
+    };
+    next_cell_m_ = keep_or(cell, wanted);
+    next_column_m_ = keep_or(column, wanted_column);
+    if (regions > 1) {
+      hist_origin_m_ = bin_origin;  // the bins this build's histogram is made of
+      hist_width_m_ = bin_width;
+    }
+    // The walks may begin (slots_sorted): the cells, slot count and oversized list are set.
+    layout_ready_->count.fetch_add(1, std::memory_order_release);
+  }
+  timeline.mark(t, kDetRekey);
   const double sort_start_s = omp_get_wtime();
   // Each thread sorts a contiguous run of partitions by fine bucket (stable), so the slot arrays'
   // lines are written by one thread each (no line shared but at the run's two ends).
@@ -948,6 +959,7 @@ void BroadPhaseGrid::record_pass_costs(std::size_t team) {
 }
 
 bool BroadPhaseGrid::slots_sorted(std::size_t t, std::size_t threads) const {
+  if (layout_ready_->count.load(std::memory_order_acquire) != threads + 1) return false;
   const auto [first, last] = partition_run(t, threads);
   if (first >= last) return true;
   const std::uint32_t per_region = 1u << (region_bits_ - fine_bits_);

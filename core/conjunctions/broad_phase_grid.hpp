@@ -49,11 +49,13 @@
 // in order (the cost was the latency of those lookups, not the slots' bytes: 16-bit boxes, half the
 // bytes, walked slower). The forward rows are then at fixed offsets from the cell's own bucket. Cells
 // too fine for the table (P times the columns no larger than a region's buckets) keep hashed rows.
-// The build runs inside the caller's parallel region with two barriers (after the boxes and keys; after
-// the scatter into coarse partitions), then each partition's sort by fine bucket, with no barrier after
-// it (a region's walk waits for that region's sort alone), and no serial section: every thread computes
-// the partition layout itself from all threads' counts. Each thread keeps the contiguous
-// chunk of objects whose end states the propagator wrote on the same core (thread_chunks.hpp).
+// The build runs inside the caller's parallel region with one barrier, after the boxes, keys and the
+// scatter of each thread's chunk into coarse partitions (its own part of the scratch, which needs no
+// other thread's counts), then each partition's sort by fine bucket, with no barrier after it (a
+// region's walk waits for that region's sort alone, and for every thread's partition starts), and no
+// serial section: every thread computes the partition layout itself from all threads' counts. Each thread
+// keeps the contiguous chunk of objects whose end states the propagator wrote on the same core
+// (thread_chunks.hpp).
 //
 // Regions of space, one per thread: the x axis is cut into slabs of whole cell columns, and each slab's
 // cells hash into its own power-of-two range of buckets, so into partitions that one thread sorts and
@@ -403,7 +405,7 @@ class BroadPhaseGrid {
   std::vector<std::uint32_t> thread_hist_;  // per thread: its chunk's histogram
   std::size_t prepared_threads_ = 0;
   std::size_t slots_in_grid_ = 0;  // objects in the grid plus ghosts
-  // Slots the slot arrays and scratch_ have room for (ghosts make them more than the objects).
+  // Slots the slot arrays have room for (ghosts make them more than the objects).
   std::size_t slot_capacity_ = 0;
   void ensure_slot_capacity(std::size_t slots);
   // The box and key passes' output per object (population index), arrays so that the passes vectorise:
@@ -427,8 +429,9 @@ class BroadPhaseGrid {
   std::vector<std::uint32_t> oversized_;     // population indices, ascending
   std::vector<std::uint32_t> bucket_start_;  // size buckets + 1
   std::vector<std::uint64_t> occupied_;      // one bit per bucket
-  // Counting-sort scratch: each thread's boxes grouped by coarse partition, in its own region (thread
-  // by thread), so the scatter writes no cache line another thread writes.
+  // Counting-sort scratch, two records per object (a box and its ghost at most): each thread's boxes
+  // grouped by coarse partition in [2 begin, 2 end) of its chunk [begin, end), so the scatter writes no
+  // cache line another thread writes and needs no other thread's counts (it runs before the barrier).
   std::vector<GridBox> scratch_;
   // Per thread and partition: its count and where its group starts in scratch_.
   std::vector<std::uint32_t> coarse_count_, group_start_, partition_start_;
@@ -458,6 +461,13 @@ class BroadPhaseGrid {
     std::atomic<std::uint32_t> partitions_sorted{0};
   };
   std::unique_ptr<RegionProgress[]> region_progress_ = std::make_unique<RegionProgress[]>(kMaxRegions);
+  // After the barrier, each thread counts itself in here once it has set its partitions' starts (which
+  // the walks of the run below read as their end), and thread 0 once more when it has set the cells,
+  // slot count and oversized list: no walk begins before the team's threads + 1 (slots_sorted).
+  struct alignas(64) Ready {
+    std::atomic<std::uint32_t> count{0};
+  };
+  std::unique_ptr<Ready> layout_ready_ = std::make_unique<Ready>();
 };
 
 }  // namespace kessler

@@ -127,7 +127,7 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
   if (walk_cursors_.size() < static_cast<std::size_t>(threads))
     walk_cursors_ = std::vector<WalkCursor>(static_cast<std::size_t>(threads));
   for (WalkCursor& cursor : walk_cursors_) cursor.claimed.store(0, std::memory_order_relaxed);
-  // One region per step: the grid (two barriers inside), then each thread collects its share of
+  // One region per step: the grid (one barrier inside), then each thread collects its share of
   // candidate pairs into its own compact array and runs the narrow phase on them, with no barrier.
   TeamTimeline& timeline = detector_timeline();
   timeline.region_start(static_cast<std::size_t>(threads));
