@@ -664,7 +664,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   }
   double pass_s = omp_get_wtime() - pass_start_s;  // the passes over this thread's chunk
 #pragma omp barrier
-  timeline.mark(t, kDetWaitBoxes);
+  timeline.mark(t, kDetWait);
   // Every thread takes the same maximum over the chunks (exact: no order dependence).
   double largest = 0.0;
   for (std::size_t u = 0; u < threads; ++u) largest = std::max(largest, thread_edge_[u]);
@@ -776,7 +776,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     // The walks may begin (slots_sorted): the cells, slot count and oversized list are set.
     layout_ready_->count.fetch_add(1, std::memory_order_release);
   }
-  timeline.mark(t, kDetRekey);
+  timeline.mark(t, kDetLayout);
   const double sort_start_s = omp_get_wtime();
   // Each thread sorts a contiguous run of partitions by fine bucket (stable), so the slot arrays'
   // lines are written by one thread each (no line shared but at the run's two ends).

@@ -93,10 +93,9 @@ enum DetectorSegment {
   kDetGrow,
   kDetEdges,
   kDetKeys,
-  kDetWaitBoxes,
-  kDetRekey,
   kDetScatter,
-  kDetWaitScatter,
+  kDetWait,    // the build's barrier
+  kDetLayout,  // after it: keys and scatter again if the guessed cell was too small, the slot layout
   kDetSort,
   kDetWalk,
   kDetNarrow,
@@ -107,8 +106,8 @@ inline TeamTimeline& propagator_timeline() {
   return timeline;
 }
 inline TeamTimeline& detector_timeline() {
-  static TeamTimeline timeline({"fork", "grow", "edges", "keys", "wait_boxes", "rekey", "scatter",
-                                "wait_scatter", "sort", "walk", "narrow", "join"});
+  static TeamTimeline timeline(
+      {"fork", "grow", "edges", "keys", "scatter", "wait", "layout", "sort", "walk", "narrow", "join"});
   return timeline;
 }
 
