@@ -644,9 +644,13 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     else
       scatter(std::false_type{});
   };
+  // Whether boxes no larger than edge fit the guessed cell (1e-9: rounding of the keys).
+  auto fit_guess = [&](double edge) {
+    return guess > 0.0 && edge * (1.0 + 1e-9) <= std::min(guess, guess_column);
+  };
   // With the guessed cell, when this chunk's boxes fit it: keys, then the scatter (a chunk that does not
   // fit means that every thread keys again after the barrier).
-  const bool own_fits = guess > 0.0 && largest_edge * (1.0 + 1e-9) <= std::min(guess, guess_column);
+  const bool own_fits = fit_guess(largest_edge);
   if (own_fits) key_chunk(guess_column, guess);
   timeline.mark(t, kDetKeys);
   if (own_fits) scatter_chunk();
@@ -658,8 +662,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
     for (std::size_t u = 0; u < occupancy_team_; ++u) occupied += thread_occupied_[u];
     occupancy_team_ = threads;
     coarsening_ = next_coarsening(coarsening_, slots_in_grid_, occupied);
-    for (std::size_t r = 0; r < regions; ++r)
-      region_progress_[r].partitions_sorted.store(0, std::memory_order_relaxed);
+    for (std::size_t r = 0; r < regions; ++r) region_progress_[r].count.store(0, std::memory_order_relaxed);
     layout_ready_->count.store(0, std::memory_order_relaxed);
   }
   double pass_s = omp_get_wtime() - pass_start_s;  // the passes over this thread's chunk
@@ -669,8 +672,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
   double largest = 0.0;
   for (std::size_t u = 0; u < threads; ++u) largest = std::max(largest, thread_edge_[u]);
   double cell = guess, column = guess_column;
-  // 1e-9: rounding of the keys
-  const bool fits = guess > 0.0 && largest * (1.0 + 1e-9) <= std::min(guess, guess_column);
+  const bool fits = fit_guess(largest);
   // Bin b of this build's histogram, over all threads' chunks.
   auto summed_bin = [&](std::size_t b) {
     std::uint32_t total = 0;
@@ -824,7 +826,7 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       slot_chord_[k] = box.chord;
     });
     // Its region's walks may read it now (once the region's other partitions are sorted too).
-    region_progress_[region_of_partition(p)].partitions_sorted.fetch_add(1, std::memory_order_release);
+    region_progress_[region_of_partition(p)].count.fetch_add(1, std::memory_order_release);
   }
   {
     // The occupied cells (buckets) of this thread's partitions, for the next build's cell.
@@ -964,7 +966,7 @@ bool BroadPhaseGrid::slots_sorted(std::size_t t, std::size_t threads) const {
   if (first >= last) return true;
   const std::uint32_t per_region = 1u << (region_bits_ - fine_bits_);
   for (std::size_t r = region_of_partition(first); r <= region_of_partition(last - 1); ++r)
-    if (region_progress_[r].partitions_sorted.load(std::memory_order_acquire) != per_region) return false;
+    if (region_progress_[r].count.load(std::memory_order_acquire) != per_region) return false;
   return true;
 }
 

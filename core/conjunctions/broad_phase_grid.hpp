@@ -455,19 +455,16 @@ class BroadPhaseGrid {
   // Per thread: the sort's bucket counts, then cursors, for the partition at hand (kept out of
   // bucket_start_, whose partition edges the walks of other regions read meanwhile).
   std::vector<std::vector<std::uint32_t>> thread_bucket_cursor_;
-  // Per region: its partitions sorted so far in this build (released by the sorters, acquired by the
-  // walkers), each on its own line.
-  struct alignas(64) RegionProgress {
-    std::atomic<std::uint32_t> partitions_sorted{0};
+  // A counter on its own cache line, released by the threads that add to it and acquired by the walkers.
+  struct alignas(64) LineCounter {
+    std::atomic<std::uint32_t> count{0};
   };
-  std::unique_ptr<RegionProgress[]> region_progress_ = std::make_unique<RegionProgress[]>(kMaxRegions);
+  // Per region: its partitions sorted so far in this build.
+  std::unique_ptr<LineCounter[]> region_progress_ = std::make_unique<LineCounter[]>(kMaxRegions);
   // After the barrier, each thread counts itself in here once it has set its partitions' starts (which
   // the walks of the run below read as their end), and thread 0 once more when it has set the cells,
   // slot count and oversized list: no walk begins before the team's threads + 1 (slots_sorted).
-  struct alignas(64) Ready {
-    std::atomic<std::uint32_t> count{0};
-  };
-  std::unique_ptr<Ready> layout_ready_ = std::make_unique<Ready>();
+  std::unique_ptr<LineCounter> layout_ready_ = std::make_unique<LineCounter>();
 };
 
 }  // namespace kessler
