@@ -153,6 +153,16 @@ class BroadPhaseGrid {
 
   // Sizes the scratch for n objects and teams of up to `threads` threads (outside a parallel region).
   void prepare(std::size_t n, int threads);
+  // Regions of space, one per thread (see above): the x axis cut into slabs of whole cell columns,
+  // each slab's cells hashed into its own range of 2^region_bits buckets (so into its own partitions,
+  // sorted and first walked by its thread).
+  static constexpr std::size_t kMaxRegions = 16;
+  // Regions of space from the next prepare() on: 0 (the default) gives one per thread, up to
+  // kMaxRegions. Benchmarks set 2 on one thread to time the work that a team's regions add to the
+  // passes over objects (borders, ghosts), apart from what crosses between cores. The pairs are the same.
+  void set_regions(std::size_t regions) { requested_regions_ = regions; }
+  // The regions of space of the last prepare().
+  std::size_t regions() const { return regions_; }
   // Builds the boxes and the grid for one step. Called by every thread of the current team, inside a
   // parallel region, after prepare(); it returns when the thread's own share of the sort is done: the
   // slots of thread u's run may be walked once slots_sorted(u, team) says so (each region is sorted on
@@ -255,10 +265,6 @@ class BroadPhaseGrid {
   // Appends each hit of the batch that the chord filter keeps and whose key is in range to `out` (in
   // the batch's order), and empties the batch.
   void filter_hits(HitBatch& hits, std::vector<CandidatePair>& out) const;
-  // Regions of space, one per thread (see above): the x axis cut into slabs of whole cell columns,
-  // each slab's cells hashed into its own range of 2^region_bits buckets (so into its own partitions,
-  // sorted and first walked by its thread).
-  static constexpr std::size_t kMaxRegions = 16;
   // How cells are laid out in a region's buckets (bucket_in_region): row_stride 0 hashes the rows;
   // otherwise cell (x, y, z) goes to x plane_stride + y row_stride + z.
   struct CellOrder {
@@ -275,13 +281,11 @@ class BroadPhaseGrid {
     // In the key pass's vector lanes these are compares with constants; a binary search, whose loads
     // depend on the last step, made four gathers of them and cost more.
     template <std::size_t kBorders = kMaxRegions - 1>
-    std::uint64_t region_of(std::uint64_t column) const {
-      std::uint64_t region = 0;
+    std::uint32_t region_of(std::uint32_t column) const {
+      std::uint32_t region = 0;
       for (std::size_t s = 0; s < kBorders; ++s) region += column >= first_column[s] ? 1 : 0;
       return region;
     }
-    // The first bucket of the region of cell column `column`.
-    std::uint64_t base(std::uint64_t column) const { return region_of(column) << region_bits; }
   };
   // Cell keys, buckets and crossing bits (GridBox) of objects [begin, end) from their float boxes, for
   // cells 1 / inverse_column_m wide along x and 1 / inverse_cell_m along y and z: a loop over arrays
@@ -289,11 +293,6 @@ class BroadPhaseGrid {
   template <std::size_t kBorders, bool kInOrder>
   void key_boxes(double inverse_column_m, double inverse_cell_m, const RegionMap& regions, std::size_t begin,
                  std::size_t end);
-  // The bucket of the ghost of a box whose cell has key `cell_key` (kGhosted): in the region of the next
-  // column, under the box's own key.
-  std::size_t ghost_bucket_of(std::uint64_t cell_key, const RegionMap& regions) const {
-    return regions.base(column_of(cell_key) + 1) | bucket_in_region(cell_key, regions.order);
-  }
   // A cell's bucket is its region's first bucket (RegionMap::base) plus bucket_in_region: its place in
   // spatial order, or a hash of its row (x, y), plus its z cell, so the cells of a row along z fall in
   // consecutive buckets of one region (and, sorted by bucket, in consecutive slots): the three z
@@ -354,10 +353,17 @@ class BroadPhaseGrid {
   // Crossing bits. Bits 0-2 (kCrossesX, y, z): the axes the box crosses into the next cell on. A box
   // that stays in its cell along an axis cannot overlap a box whose lower corner lies in a later cell on
   // that axis, so the walk skips those forward neighbours (exact: the same candidates, fewer cells
-  // visited). kGhosted (key pass only): it crosses in x into another region's column, so it gets a
-  // ghost there, and its own slot drops kCrossesX (its next-column rows are the ghost's). kGhost (slots
-  // only): the slot is such a ghost, which walks only the next-column rows.
-  static constexpr std::uint32_t kCrossesX = 1, kGhosted = 8, kGhost = 16;
+  // visited). kGhost (slots only): the slot is the ghost of a box that crosses in x into another
+  // region's column (see kGhostRegionShift), and walks only the next-column rows.
+  static constexpr std::uint32_t kCrossesX = 1, kGhost = 16;
+  // A box that crosses in x into another region's column gets a ghost there, and its own slot drops
+  // kCrossesX (its next-column rows are the ghost's). The key pass marks it in its bucket: the ghost's
+  // region + 1 above kGhostRegionShift (0: no ghost), so the count and the scatter read one array.
+  static constexpr unsigned kGhostRegionShift = 27;
+  static constexpr std::uint32_t kBucketMask = (std::uint32_t{1} << kGhostRegionShift) - 1;
+  std::uint32_t ghost_bucket(std::uint32_t key_pass_bucket) const {
+    return (((key_pass_bucket >> kGhostRegionShift) - 1) << region_bits_) | (key_pass_bucket & region_mask_);
+  }
   // One object's grown box (rounded outwards to floats), cell key, bucket, population index and chord
   // word: 48 bytes, and the whole record the sort moves, so sorting never reads another thread's boxes at
   // random.
@@ -367,7 +373,7 @@ class BroadPhaseGrid {
     std::uint32_t index;
     std::uint64_t key;
     std::uint32_t chord;   // chord_word
-    std::uint32_t bucket;  // its cell's (a ghost's: ghost_bucket_of), kept for the scatter and the sort
+    std::uint32_t bucket;  // its cell's (a ghost's: ghost_bucket), kept for the scatter and the sort
   };
   static_assert(sizeof(GridBox) == 48);
 
@@ -465,6 +471,7 @@ class BroadPhaseGrid {
   // the walks of the run below read as their end), and thread 0 once more when it has set the cells,
   // slot count and oversized list: no walk begins before the team's threads + 1 (slots_sorted).
   std::unique_ptr<LineCounter> layout_ready_ = std::make_unique<LineCounter>();
+  std::size_t requested_regions_ = 0;  // set_regions
 };
 
 }  // namespace kessler

@@ -36,6 +36,8 @@ class ConjunctionDetector {
   std::size_t last_candidate_pairs() const { return last_candidate_pairs_; }
   // The broad phase's grid (its cell size and build counts, for benchmarks).
   const BroadPhaseGrid& grid() const { return grid_; }
+  // The grid's regions of space (BroadPhaseGrid::set_regions; 0: one per thread), for benchmarks.
+  void set_grid_regions(std::size_t regions) { grid_.set_regions(regions); }
 
  private:
   ConjunctionSettings settings_;

@@ -65,8 +65,10 @@ std::int64_t peak_rss_bytes() {
 // 16-core machine's.
 class GridFiguresScanner final : public EncounterScanner {
  public:
-  GridFiguresScanner(const ConjunctionSettings& settings, std::size_t team)
-      : detector_(settings), team_(team) {}
+  GridFiguresScanner(const ConjunctionSettings& settings, std::size_t team, std::size_t regions)
+      : detector_(settings), team_(team) {
+    detector_.set_grid_regions(regions);
+  }
   void scan(const Population& population, const StepEnds& step, std::vector<Encounter>& out) override {
     detector_.scan(population, step, out);
     const BroadPhaseGrid& grid = detector_.grid();
@@ -180,12 +182,13 @@ int run(int argc, char** argv) {
   Args args(argc, argv);
   args.allow_only({"--dataset", "--objects", "--days", "--threads", "--kappa", "--screen-km", "--dt",
                    "--events-out", "--seed", "--no-detection", "--narrow", "--integrator", "--phase-times",
-                   "--cpu-times", "--no-cpu-times"});
+                   "--cpu-times", "--no-cpu-times", "--regions"});
   const std::string dataset = args.get("--dataset", "leo-19647");
   const double days = args.get_double("--days", 1.0);
   const int threads = static_cast<int>(args.get_int("--threads", 1));
   const double dt = args.get_double("--dt", kDefaultDt_s);
   const std::int64_t objects_wanted = args.get_int("--objects", dataset == "synthetic" ? 20000 : 0);
+  const std::int64_t regions_wanted = args.get_int("--regions", 0);
   const auto seed = static_cast<std::uint64_t>(args.get_int("--seed", 1));
   const std::string narrow = args.get("--narrow", "hermite");
   const std::string integrator =
@@ -198,6 +201,12 @@ int run(int argc, char** argv) {
     std::cerr << "kessler-bench run: --days and --dt must be positive, --threads >= 1, --objects >= 0\n";
     return 2;
   }
+  if (regions_wanted < 0 || regions_wanted > static_cast<std::int64_t>(BroadPhaseGrid::kMaxRegions)) {
+    std::cerr << "kessler-bench run: --regions must be 0 (one per thread) to " << BroadPhaseGrid::kMaxRegions
+              << ", got " << regions_wanted << "\n";
+    return 2;
+  }
+  const auto regions = static_cast<std::size_t>(regions_wanted);
   if (args.has("--kappa") && args.has("--screen-km")) {
     std::cerr << "kessler-bench run: give --kappa or --screen-km, not both\n";
     return 2;
@@ -296,7 +305,7 @@ int run(int argc, char** argv) {
   GridFiguresScanner* grid_figures = nullptr;
   if (parts.scanner) {
     auto scanner =
-        std::make_unique<GridFiguresScanner>(config.conjunctions, static_cast<std::size_t>(threads));
+        std::make_unique<GridFiguresScanner>(config.conjunctions, static_cast<std::size_t>(threads), regions);
     grid_figures = scanner.get();
     parts.scanner = std::move(scanner);
   }
@@ -430,7 +439,7 @@ KESSLER_BENCH("run",
               "the whole simulation: --dataset leo-19647|paper|synthetic [--objects N] --days D --threads T "
               "[--kappa K | --screen-km S] [--dt SECONDS] [--events-out FILE] [--no-detection] "
               "[--narrow hermite|linear] [--seed S] [--integrator yoshida4|blanes_moan4] [--phase-times] "
-              "[--cpu-times]",
+              "[--cpu-times] [--regions R]",
               run);
 
 }  // namespace kessler::bench

@@ -253,6 +253,35 @@ TEST(BroadPhaseGrid, SamePairsOnceForAnyThreadCount) {
   omp_set_num_threads(saved);
 }
 
+TEST(BroadPhaseGrid, MoreRegionsThanThreadsGiveTheSamePairs) {
+  // set_regions: 2 and 3 regions of space on one thread (what benchmarks time), 5 on 2 threads. Each
+  // region's borders, ghosts and sort then run on threads that also hold other regions.
+  const int saved = omp_get_max_threads();
+  const StateArrays s = dense_population(3000, 3.0e5, 8, 1.2e6);
+  std::size_t listed = 0;
+  omp_set_num_threads(1);
+  const auto one = grid_pairs(s, 10.0, 5000.0, listed);
+  EXPECT_GT(one.size(), 100u);
+  for (const auto [threads, regions] : {std::pair{1, 2}, std::pair{1, 3}, std::pair{2, 5}}) {
+    omp_set_num_threads(threads);
+    BroadPhaseGrid grid;
+    grid.set_regions(regions);
+    for (int build = 0; build < 2; ++build) {  // borders from this build's histogram, then the last's
+      EXPECT_EQ(grid_pairs(grid, s, 10.0, 5000.0, listed), one)
+          << threads << " threads, " << regions << " regions, build " << build;
+      EXPECT_EQ(listed, one.size()) << threads << " threads, " << regions << " regions: a pair listed twice";
+    }
+    EXPECT_EQ(grid.regions(), static_cast<std::size_t>(regions));
+    std::size_t regions_with_slots = 0;
+    for (std::size_t r = 0; r < static_cast<std::size_t>(regions); ++r) {
+      const auto [first, last] = grid.sorted_slots(r, static_cast<std::size_t>(regions));
+      regions_with_slots += last > first ? 1 : 0;
+    }
+    EXPECT_EQ(regions_with_slots, static_cast<std::size_t>(regions)) << "a region left empty";
+  }
+  omp_set_num_threads(saved);
+}
+
 TEST(BroadPhaseGrid, RegionsBalanceTheThreadsAndKeepEveryPairAcrossTheirBorders) {
   // 4,000 objects in a box 1,600 km long in x (~19 cell columns), on 4 threads: after a first build,
   // the borders come from the last build's histogram. Pairs across the borders (rows of the next
