@@ -293,7 +293,7 @@ class BroadPhaseGrid {
   template <std::size_t kBorders, bool kInOrder>
   void key_boxes(double inverse_column_m, double inverse_cell_m, const RegionMap& regions, std::size_t begin,
                  std::size_t end);
-  // A cell's bucket is its region's first bucket (RegionMap::base) plus bucket_in_region: its place in
+  // A cell's bucket is its region's first bucket (region << region_bits) plus bucket_in_region: its place in
   // spatial order, or a hash of its row (x, y), plus its z cell, so the cells of a row along z fall in
   // consecutive buckets of one region (and, sorted by bucket, in consecutive slots): the three z
   // neighbours of a cell are one contiguous range (wrapping inside the region), usually on one cache
