@@ -501,20 +501,15 @@ void BroadPhaseGrid::build_in_team(const StepEnds& step, NarrowPhase motion, con
       map.first_column[s] =
           static_cast<std::uint32_t>(axis_cell(borders_m[s] + 0.5 * column, inverse_column));
     map.order = cell_order(extent_m, column, cell, map);
-    // The borders the key pass compares with: none with one region, one with two (2 threads), else all.
-    auto key = [&](auto in_order) {
-      constexpr bool kInOrder = decltype(in_order)::value;
-      if (regions == 1)
-        key_boxes<0, kInOrder>(inverse_column, 1.0 / cell, map, begin, end);
-      else if (regions == 2)
-        key_boxes<1, kInOrder>(inverse_column, 1.0 / cell, map, begin, end);
-      else
-        key_boxes<kMaxRegions - 1, kInOrder>(inverse_column, 1.0 / cell, map, begin, end);
-    };
     if (map.order.in_order())
-      key(std::true_type{});
+      key_boxes<true>(inverse_column, 1.0 / cell, map.order, begin, end);
     else
-      key(std::false_type{});
+      key_boxes<false>(inverse_column, 1.0 / cell, map.order, begin, end);
+    // The borders the region pass compares with: one with two regions (2 threads), else all.
+    if (regions == 2)
+      add_regions<1>(map, begin, end);
+    else if (regions > 2)
+      add_regions<kMaxRegions - 1>(map, begin, end);
     std::uint32_t local_counts[kMaxPartitions] = {};
     for (std::size_t i = begin; i < end; ++i) {
       if (oversized_flag_[i]) continue;
@@ -865,8 +860,8 @@ BroadPhaseGrid::CellOrder BroadPhaseGrid::cell_order(double extent_m, double col
   return {row * row, row, 0 - (first * row * row + first_yz * row + first_yz)};
 }
 
-template <std::size_t kBorders, bool kInOrder>
-void BroadPhaseGrid::key_boxes(double inverse_column_m, double inverse_cell_m, const RegionMap& regions,
+template <bool kInOrder>
+void BroadPhaseGrid::key_boxes(double inverse_column_m, double inverse_cell_m, const CellOrder& cells,
                                std::size_t begin, std::size_t end) {
   // Local restrict copies of every pointer and value, so the loop vectorises (see grow_boxes).
   const float* __restrict lo_x = box_lo_[0].data();
@@ -878,7 +873,7 @@ void BroadPhaseGrid::key_boxes(double inverse_column_m, double inverse_cell_m, c
   std::uint64_t* __restrict keys = box_key_.data();
   std::uint32_t* __restrict buckets = box_bucket_.data();
   std::uint8_t* __restrict crosses = box_crosses_.data();
-  const RegionMap map = regions;  // a local copy: the loop must not re-read it after each store
+  const CellOrder order = cells;  // a local copy: the loop must not re-read it after each store
 #pragma omp simd
   for (std::size_t i = begin; i < end; ++i) {
     const std::uint64_t cx = axis_cell(lo_x[i], inverse_column_m), cy = axis_cell(lo_y[i], inverse_cell_m),
@@ -887,24 +882,26 @@ void BroadPhaseGrid::key_boxes(double inverse_column_m, double inverse_cell_m, c
     keys[i] = key;
     // Monotone cells: a box whose upper corner is in its lower corner's cell along an axis lies below
     // every lower corner of a later cell on that axis.
-    const bool crosses_x = axis_cell(hi_x[i], inverse_column_m) != cx;
-    const std::uint32_t bits = (crosses_x ? kCrossesX : 0u) |
+    const std::uint32_t bits = (axis_cell(hi_x[i], inverse_column_m) != cx ? kCrossesX : 0u) |
                                (axis_cell(hi_y[i], inverse_cell_m) != cy ? 2u : 0u) |
                                (axis_cell(hi_z[i], inverse_cell_m) != cz ? 4u : 0u);
     crosses[i] = static_cast<std::uint8_t>(bits);
-    buckets[i] = static_cast<std::uint32_t>(bucket_in_region<kInOrder>(key, map.order));
+    buckets[i] = static_cast<std::uint32_t>(bucket_in_region<kInOrder>(key, order));
   }
-  if constexpr (kBorders > 0) {
-    // The regions and ghosts in a loop of their own: in the one above they left too few vector
-    // registers, and it spilled (2 regions on one thread: 0.5 ns more per object than one region).
+}
+
+template <std::size_t kBorders>
+void BroadPhaseGrid::add_regions(const RegionMap& regions, std::size_t begin, std::size_t end) {
+  const std::uint64_t* __restrict keys = box_key_.data();
+  const std::uint8_t* __restrict crosses = box_crosses_.data();
+  std::uint32_t* __restrict buckets = box_bucket_.data();
+  const RegionMap map = regions;  // a local copy: the loop must not re-read it after each store
 #pragma omp simd
-    for (std::size_t i = begin; i < end; ++i) {
-      const auto column = static_cast<std::uint32_t>(keys[i] >> (2 * kAxisBits));  // below 2^kAxisBits
-      const std::uint32_t region = map.region_of<kBorders>(column),
-                          next = map.region_of<kBorders>(column + 1);
-      const bool ghosted = (crosses[i] & kCrossesX) != 0 && next != region;
-      buckets[i] |= (region << map.region_bits) | (ghosted ? (next + 1) << kGhostRegionShift : 0u);
-    }
+  for (std::size_t i = begin; i < end; ++i) {
+    const auto column = static_cast<std::uint32_t>(column_of(keys[i]));  // below 2^kAxisBits
+    const std::uint32_t region = map.region_of<kBorders>(column), next = map.region_of<kBorders>(column + 1);
+    const bool ghosted = (crosses[i] & kCrossesX) != 0 && next != region;
+    buckets[i] |= (region << map.region_bits) | (ghosted ? (next + 1) << kGhostRegionShift : 0u);
   }
 }
 

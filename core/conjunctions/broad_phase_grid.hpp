@@ -287,12 +287,18 @@ class BroadPhaseGrid {
       return region;
     }
   };
-  // Cell keys, buckets and crossing bits (GridBox) of objects [begin, end) from their float boxes, for
-  // cells 1 / inverse_column_m wide along x and 1 / inverse_cell_m along y and z: a loop over arrays
-  // that vectorises. kBorders: the borders between regions it need look at (0: one region, no ghosts).
-  template <std::size_t kBorders, bool kInOrder>
-  void key_boxes(double inverse_column_m, double inverse_cell_m, const RegionMap& regions, std::size_t begin,
+  // Cell keys, buckets within a region and crossing bits (GridBox) of objects [begin, end) from their
+  // float boxes, for cells 1 / inverse_column_m wide along x and 1 / inverse_cell_m along y and z: a loop
+  // over arrays that vectorises.
+  template <bool kInOrder>
+  void key_boxes(double inverse_column_m, double inverse_cell_m, const CellOrder& order, std::size_t begin,
                  std::size_t end);
+  // With several regions, after key_boxes: each bucket's region, and a ghosted box's mark
+  // (kGhostRegionShift). A loop of its own: inside the key loop this work left too few vector registers,
+  // and it spilled (2 regions on one thread: 0.5 ns more per object than one region). kBorders: the
+  // borders between regions it need look at.
+  template <std::size_t kBorders>
+  void add_regions(const RegionMap& regions, std::size_t begin, std::size_t end);
   // A cell's bucket is its region's first bucket (region << region_bits) plus bucket_in_region: its place in
   // spatial order, or a hash of its row (x, y), plus its z cell, so the cells of a row along z fall in
   // consecutive buckets of one region (and, sorted by bucket, in consecutive slots): the three z
