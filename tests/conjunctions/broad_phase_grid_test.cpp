@@ -272,6 +272,7 @@ TEST(BroadPhaseGrid, MoreRegionsThanThreadsGiveTheSamePairs) {
       EXPECT_EQ(listed, one.size()) << threads << " threads, " << regions << " regions: a pair listed twice";
     }
     EXPECT_EQ(grid.regions(), static_cast<std::size_t>(regions));
+    expect_grid_matches_all_pairs(s, 10.0, 5000.0, &grid);  // and against the all-pairs reference
     std::size_t regions_with_slots = 0;
     for (std::size_t r = 0; r < static_cast<std::size_t>(regions); ++r) {
       const auto [first, last] = grid.sorted_slots(r, static_cast<std::size_t>(regions));
