@@ -30,6 +30,8 @@ struct StepRequest {
   // burn_up_radius2) (burn_up.hpp).
   std::vector<char>* burn_up_flags = nullptr;
   double burn_up_radius2 = 0.0;
+  // The states at t_start_s + dt_s are copied here (the end of the step's StepEnds), when not null.
+  StateArrays* end_out = nullptr;
 };
 
 class Propagator {

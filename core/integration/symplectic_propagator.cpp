@@ -15,6 +15,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <omp.h>
 
@@ -172,6 +173,16 @@ void step_range(const StepArrays& s, long begin, long end, const StepPlan& plan,
     throw std::logic_error("SymplecticPropagator: no kernel for this composition");
 }
 
+// States [begin, end) of `from` copied to `to` (sized already).
+void copy_states(const StateArrays& from, std::size_t begin, std::size_t end, StateArrays& to) {
+  for (auto [src, dst] :
+       {std::pair{&from.x, &to.x}, std::pair{&from.y, &to.y}, std::pair{&from.z, &to.z},
+        std::pair{&from.vx, &to.vx}, std::pair{&from.vy, &to.vy}, std::pair{&from.vz, &to.vz}})
+    std::copy(src->begin() + static_cast<std::ptrdiff_t>(begin),
+              src->begin() + static_cast<std::ptrdiff_t>(end),
+              dst->begin() + static_cast<std::ptrdiff_t>(begin));
+}
+
 }  // namespace
 
 SymplecticPropagator::SymplecticPropagator(const ForceModelSettings& forces, const UtcEpoch& epoch,
@@ -196,6 +207,8 @@ void SymplecticPropagator::step_with(Population& population, double t_start_s, d
       population.srp_area_to_mass_m2_kg.size() != n)
     throw std::invalid_argument("SymplecticPropagator: population arrays differ in length");
   if (start_out != nullptr) start_out->resize(n);
+  StateArrays* const end_out = request.end_out;
+  if (end_out != nullptr) end_out->resize(n);
   // The burn-up flags in the same pass: each block's, and each low object's again after its sub-steps.
   char* burn_up_flags = nullptr;
   if (request.burn_up_flags != nullptr) {
@@ -260,6 +273,11 @@ void SymplecticPropagator::step_with(Population& population, double t_start_s, d
         st.vx[i] = low.vx[k], st.vy[i] = low.vy[k], st.vz[i] = low.vz[k];
         if (burn_up_flags != nullptr)
           burn_up_flags[i] = burns_up(low.x[k], low.y[k], low.z[k], burn_up_radius2);
+        if (end_out != nullptr) {
+          StateArrays& e = *end_out;
+          e.x[i] = low.x[k], e.y[i] = low.y[k], e.z[i] = low.z[k];
+          e.vx[i] = low.vx[k], e.vy[i] = low.vy[k], e.vz[i] = low.vz[k];
+        }
       }
     };
     std::size_t substepped = 0;  // of this thread's list
@@ -267,6 +285,8 @@ void SymplecticPropagator::step_with(Population& population, double t_start_s, d
       if (substep_low) mine.copy_low(population, low_flag_.data(), begin, end, low_radius2);
       step_range(arrays, static_cast<long>(begin), static_cast<long>(end), plan, start_out, burn_up_flags,
                  burn_up_radius2);
+      // The end states while the block is in this core's cache (a low object's again after its sub-steps).
+      if (end_out != nullptr) copy_states(st, begin, end, *end_out);
       if (mine.index.size() - substepped >= kLowBatch) {
         substep(substepped, mine.index.size());
         substepped = mine.index.size();

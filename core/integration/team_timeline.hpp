@@ -105,9 +105,19 @@ inline TeamTimeline& propagator_timeline() {
   static TeamTimeline timeline({"fork", "blocks", "join"});
   return timeline;
 }
+// Set on a thread while it scans one of several steps in flight (core/simulation/steps_in_flight.hpp):
+// those scans run side by side, each on a team of one, and keep no timeline of their own.
+inline thread_local bool scanning_in_flight = false;
 inline TeamTimeline& detector_timeline() {
   static TeamTimeline timeline(
       {"fork", "grow", "edges", "keys", "scatter", "wait", "layout", "sort", "walk", "narrow", "join"});
+  static TeamTimeline unused({"fork", "join"});  // never enabled
+  return scanning_in_flight ? unused : timeline;
+}
+// Steps in flight: each thread's scans of whole steps, and its wait for the last one.
+enum FlightSegment { kFlightFork, kFlightScans, kFlightJoin };
+inline TeamTimeline& flight_timeline() {
+  static TeamTimeline timeline({"fork", "scans", "join"});
   return timeline;
 }
 

@@ -13,6 +13,7 @@
 #include "core/conjunctions/closest_encounters.hpp"
 #include "core/simulation/checkpoint.hpp"
 #include "core/simulation/sha256.hpp"
+#include "core/simulation/steps_in_flight.hpp"
 
 namespace kessler {
 namespace {
@@ -226,17 +227,32 @@ RunSummary Simulation::run(EventSink& sink, RunControl& control) {
     timers.checkpoint_s += seconds_since(t0);
   };
 
-  std::vector<Encounter> encounters;
   std::vector<char> flags;
-  StateArrays start_state;
-  // What each step asks of the propagator: the start states, and the burn-up flags in the same pass
-  // unless a finder is given.
+  // What each step asks of the propagator besides the steps in flight's copies: the burn-up flags in
+  // the same pass, unless a finder is given.
   const bool flag_in_step = s.parts.burn_up && !s.parts.find_burn_ups;
-  StepRequest request{&start_state};
+  StepRequest request;
   if (flag_in_step) {
     request.burn_up_flags = &flags;
     request.burn_up_radius2 = burn_up_radius2(cfg.burn_up_altitude_m);
   }
+  // Steps scanned side by side (steps_in_flight.hpp): one per thread, with scanners of their own, where
+  // the scanner offers copies; else one at a time.
+  std::vector<std::unique_ptr<EncounterScanner>> more_scanners;
+  std::unique_ptr<StepsInFlight> flight;
+  if (s.parts.scanner) {
+    std::vector<EncounterScanner*> scanners{s.parts.scanner.get()};
+    const int at_once = cfg.scan_steps_at_once > 0 ? cfg.scan_steps_at_once : omp_get_max_threads();
+    while (static_cast<int>(scanners.size()) < at_once) {
+      std::unique_ptr<EncounterScanner> another = s.parts.scanner->another();
+      if (!another) break;
+      scanners.push_back(another.get());
+      more_scanners.push_back(std::move(another));
+    }
+    flight = std::make_unique<StepsInFlight>(std::move(scanners));
+  }
+  std::vector<std::vector<Encounter>> encounters;  // per step of the batch
+  std::vector<BurnUp> burned;
 
   try {
     for (;;) {
@@ -264,77 +280,100 @@ RunSummary Simulation::run(EventSink& sink, RunControl& control) {
       }
       if (s.step >= s.total_steps) break;
 
-      const double t0_s = static_cast<double>(s.step) * cfg.dt_s;
-      const double t1_s = static_cast<double>(s.step + 1) * cfg.dt_s;
+      // A batch: up to one step per scanner in flight, ending early at the next checkpoint step and at a
+      // step where objects burn up (the population then changes: the next batch starts afresh).
+      std::int64_t batch_end =
+          std::min(s.total_steps, s.step + (flight ? static_cast<std::int64_t>(flight->capacity()) : 1));
+      if (cfg.checkpoint_every_steps > 0)
+        batch_end =
+            std::min(batch_end, (s.step / cfg.checkpoint_every_steps + 1) * cfg.checkpoint_every_steps);
       Population& pop = s.population;
-
-      // Integrate.
-      auto t = Clock::now();
-      s.parts.propagator->step_with(pop, t0_s, cfg.dt_s, request);
-      timers.integrator_s += seconds_since(t);
-
-      // Burn-up: found now, removed after detection (StepEnds stay index-aligned for the scan).
-      t = Clock::now();
-      std::vector<BurnUp> burned;
-      if (s.parts.burn_up) {
-        burned = flag_in_step ? flagged_burn_ups(pop, t1_s, flags)
-                              : s.parts.find_burn_ups(pop, cfg.burn_up_altitude_m, t1_s, flags);
-        std::sort(burned.begin(), burned.end(), [](const BurnUp& a, const BurnUp& b) { return a.id < b.id; });
+      const std::int64_t batch_start = s.step;
+      std::int64_t next = batch_start;
+      burned.clear();
+      while (next < batch_end && burned.empty()) {
+        const double t0_s = static_cast<double>(next) * cfg.dt_s;
+        const double t1_s = t0_s + cfg.dt_s;
+        // Integrate.
+        auto t = Clock::now();
+        if (flight) {
+          s.parts.propagator->step_with(pop, t0_s, cfg.dt_s, flight->request_for_next(request));
+          flight->push(t0_s, cfg.dt_s, s.parts.propagator->last_chunks());
+        } else {
+          s.parts.propagator->step_with(pop, t0_s, cfg.dt_s, request);
+        }
+        timers.integrator_s += seconds_since(t);
+        // Burn-up: found now, removed after detection (the steps' ends stay index-aligned for the scans).
+        t = Clock::now();
+        if (s.parts.burn_up) {
+          burned = flag_in_step ? flagged_burn_ups(pop, t1_s, flags)
+                                : s.parts.find_burn_ups(pop, cfg.burn_up_altitude_m, t1_s, flags);
+          std::sort(burned.begin(), burned.end(),
+                    [](const BurnUp& a, const BurnUp& b) { return a.id < b.id; });
+        }
+        timers.burn_up_s += seconds_since(t);
+        ++next;
       }
-      timers.burn_up_s += seconds_since(t);
+      const std::size_t steps = static_cast<std::size_t>(next - batch_start);
 
       // Detection.
-      encounters.clear();
-      if (s.parts.scanner && pop.size() > 1) {
-        t = Clock::now();
-        StepEnds ends{t0_s, cfg.dt_s, &start_state, &pop.state, s.parts.propagator->last_chunks()};
-        s.parts.scanner->scan(pop, ends, encounters);
-        const double scan_s = seconds_since(t);
-        const double grid_s = std::min(scan_s, s.parts.scanner->last_grid_s());
-        timers.grid_s += grid_s;
-        timers.detection_s += scan_s - grid_s;
+      for (std::vector<Encounter>& step_encounters : encounters) step_encounters.clear();
+      encounters.resize(std::max(encounters.size(), steps));
+      if (flight) {
+        if (pop.size() > 1) {
+          flight->scan(pop, encounters);
+          timers.grid_s += flight->last_grid_s();
+          timers.detection_s += flight->last_scan_s() - flight->last_grid_s();
+        }
+        flight->restart(!burned.empty());
       }
 
-      // Events, in sequence order: encounters (canonical), burn-ups (by id), progress.
-      t = Clock::now();
-      for (const Encounter& e : encounters) {
-        const std::uint64_t seq = s.next_seq++;
-        hash_encounter(s.events_hash, seq, e);
-        ++s.events;
-        if (e.kind == EncounterKind::kEvasion)
-          ++s.evasions;
-        else
-          ++s.conjunctions;
-        if (e.kind == EncounterKind::kCollision) ++s.collisions;
-        s.closest.update(e);
-        sink.on_encounter(seq, e);
-      }
-      for (const BurnUp& b : burned) {
-        const std::uint64_t seq = s.next_seq++;
-        hash_burn_up(s.events_hash, seq, b);
-        ++s.events;
-        ++s.burn_ups;
-        sink.on_burn_up(seq, b);
-      }
-      if (!burned.empty()) pop.remove_flagged(flags);
-      ++s.step;
+      // Events, step by step, in sequence order: encounters (canonical), burn-ups (by id, on the batch's
+      // last step), progress.
+      auto t = Clock::now();
+      for (std::size_t j = 0; j < steps; ++j) {
+        const double t1_s = static_cast<double>(s.step + 1) * cfg.dt_s;
+        for (const Encounter& e : encounters[j]) {
+          const std::uint64_t seq = s.next_seq++;
+          hash_encounter(s.events_hash, seq, e);
+          ++s.events;
+          if (e.kind == EncounterKind::kEvasion)
+            ++s.evasions;
+          else
+            ++s.conjunctions;
+          if (e.kind == EncounterKind::kCollision) ++s.collisions;
+          s.closest.update(e);
+          sink.on_encounter(seq, e);
+        }
+        if (j + 1 == steps) {
+          for (const BurnUp& b : burned) {
+            const std::uint64_t seq = s.next_seq++;
+            hash_burn_up(s.events_hash, seq, b);
+            ++s.events;
+            ++s.burn_ups;
+            sink.on_burn_up(seq, b);
+          }
+          if (!burned.empty()) pop.remove_flagged(flags);
+        }
+        ++s.step;
 
-      if (s.step % progress_every == 0 || s.step == s.total_steps) {
-        Progress p;
-        p.step = s.step;
-        p.total_steps = s.total_steps;
-        p.sim_time_s = t1_s;
-        p.objects_alive = pop.size();
-        p.events_so_far = s.events;
-        p.wall_s = wall_now();
-        const double session_wall = seconds_since(run_start);
-        const std::int64_t done = s.step - first_step;
-        p.eta_s = done > 0
-                      ? session_wall / static_cast<double>(done) * static_cast<double>(s.total_steps - s.step)
-                      : 0.0;
-        const std::uint64_t seq = s.next_seq++;
-        hash_progress(s.events_hash, seq, p);
-        sink.on_progress(seq, p);
+        if (s.step % progress_every == 0 || s.step == s.total_steps) {
+          Progress p;
+          p.step = s.step;
+          p.total_steps = s.total_steps;
+          p.sim_time_s = t1_s;
+          p.objects_alive = pop.size();
+          p.events_so_far = s.events;
+          p.wall_s = wall_now();
+          const double session_wall = seconds_since(run_start);
+          const std::int64_t done = s.step - first_step;
+          p.eta_s = done > 0 ? session_wall / static_cast<double>(done) *
+                                   static_cast<double>(s.total_steps - s.step)
+                             : 0.0;
+          const std::uint64_t seq = s.next_seq++;
+          hash_progress(s.events_hash, seq, p);
+          sink.on_progress(seq, p);
+        }
       }
       timers.output_s += seconds_since(t);
     }

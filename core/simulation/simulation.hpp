@@ -34,6 +34,9 @@ struct SimulationConfig {
   std::int64_t progress_every_steps = 0;    // 0: about 200 per run
   std::uint64_t seed = 1;
   int threads = 0;  // 0: OpenMP's default
+  // Steps whose conjunction scans run side by side, each on one thread (steps_in_flight.hpp); 0: one
+  // per thread, 1: one step at a time on the whole team. Never changes a result.
+  int scan_steps_at_once = 0;
 };
 
 // Steps in a run: whole steps of dt_s that fit in duration_s (a last partial step is not taken).

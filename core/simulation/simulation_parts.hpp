@@ -23,6 +23,9 @@ class EncounterScanner {
   virtual void scan(const Population& population, const StepEnds& step, std::vector<Encounter>& out) = 0;
   // Seconds of the last scan spent in the broad phase (grid), for the phase timers; 0 if unknown.
   virtual double last_grid_s() const { return 0.0; }
+  // A scanner with the same settings and none of this one's scratch, to scan another step at the same
+  // time (steps_in_flight.hpp); null where that is not offered (then steps are scanned one at a time).
+  virtual std::unique_ptr<EncounterScanner> another() const { return nullptr; }
 };
 
 // The objects below min_altitude_m and their removal flags, sized to the population by the finder (the

@@ -1,8 +1,9 @@
 // kessler-bench conjunctions: propagation (default integrator, full force model) plus conjunction detection
 // on the leo-19647 population (the first N objects; beyond 19,647, copies with positions scaled by 1 + 1e-6
-// copy); objects below 150 km are removed after each step's detection, as in the simulation. Each step's
-// detection runs --repeats times; the median of the repeats' totals is reported (detection time only, x
-// threads, per object and step).
+// copy); objects below 150 km are removed after each step's detection, as in the simulation. Steps are
+// scanned as the simulation scans them: one per thread, side by side (core/simulation/steps_in_flight.hpp;
+// --steps-at-once 1: one at a time on the whole team). Each batch's detection runs --repeats times; the
+// median of the repeats' totals is reported (detection time only, x threads, per object and step).
 #include <omp.h>
 
 #include <time.h>
@@ -15,15 +16,40 @@
 #include "core/integration/burn_up.hpp"
 #include "core/integration/symplectic_propagator.hpp"
 #include "core/population/leo19647.hpp"
+#include "core/simulation/steps_in_flight.hpp"
 #include "tests/bench/bench.hpp"
 
 namespace kessler::bench {
 namespace {
 
+// The detector, adding up its candidate pairs and broad-phase seconds while `counting`.
+class CountingScanner final : public EncounterScanner {
+ public:
+  explicit CountingScanner(const ConjunctionSettings& settings) : settings_(settings), detector_(settings) {}
+  void scan(const Population& population, const StepEnds& step, std::vector<Encounter>& out) override {
+    detector_.scan(population, step, out);
+    if (!counting) return;
+    candidates += detector_.last_candidate_pairs();
+    grid_s += detector_.last_grid_s();
+  }
+  double last_grid_s() const override { return detector_.last_grid_s(); }
+  std::unique_ptr<EncounterScanner> another() const override {
+    return std::make_unique<CountingScanner>(settings_);
+  }
+  const ConjunctionDetector& detector() const { return detector_; }
+  bool counting = true;
+  std::size_t candidates = 0;
+  double grid_s = 0.0;
+
+ private:
+  ConjunctionSettings settings_;
+  ConjunctionDetector detector_;
+};
+
 int run(int argc, char** argv) {
   Args args(argc, argv);
   args.allow_only({"--objects", "--steps", "--threads", "--kappa", "--screen-km", "--dt", "--repeats",
-                   "--dataset", "--narrow", "--active-every"});
+                   "--dataset", "--narrow", "--active-every", "--steps-at-once"});
   const auto objects = static_cast<std::size_t>(args.get_int("--objects", 19647));
   const auto steps = args.get_int("--steps", 100);
   const int threads = static_cast<int>(args.get_int("--threads", 1));
@@ -31,8 +57,11 @@ int run(int argc, char** argv) {
   const double dt = args.get_double("--dt", 10.0);
   const std::string dir = args.get("--dataset", std::string(KESSLER_DATASETS_DIR) + "/leo-19647");
   const std::string narrow = args.get("--narrow", "hermite");
-  if (objects < 2 || steps <= 0 || threads <= 0 || repeats <= 0) {
-    std::cerr << "kessler-bench conjunctions: --objects >= 2, --steps, --threads, --repeats positive\n";
+  const auto at_once_wanted = args.get_int("--steps-at-once", 0);
+  if (objects < 2 || steps <= 0 || threads <= 0 || repeats <= 0 || at_once_wanted < 0 ||
+      at_once_wanted > 1024) {
+    std::cerr << "kessler-bench conjunctions: --objects >= 2, --steps, --threads, --repeats positive, "
+                 "--steps-at-once 0 (one per thread) to 1024\n";
     return 2;
   }
   if (args.has("--kappa") && args.has("--screen-km")) {
@@ -62,41 +91,64 @@ int run(int argc, char** argv) {
   omp_set_num_threads(threads);
   SymplecticPropagator propagator(ForceModelSettings{}, leo19647_epoch());
   propagator.set_threads(threads);
-  // The simulation's order: propagate, detect on the step's two ends, then remove burn-ups (150 km).
-  // Detection runs --repeats times on each step (the first one's events are kept); each repeat's time
-  // is summed over the steps and the median of the sums reported. Memory stays O(N) for long runs.
-  ConjunctionDetector detector(settings);
+  // The simulation's order: propagate a batch of steps, scan them, then remove burn-ups (150 km; a batch
+  // ends at a step where objects burn up). Detection runs --repeats times on each batch (the first
+  // one's events are kept); each repeat's time is summed over the batches and the median of the sums
+  // reported. Memory stays O(N) for long runs.
+  const std::size_t at_once =
+      at_once_wanted > 0 ? static_cast<std::size_t>(at_once_wanted) : static_cast<std::size_t>(threads);
+  std::vector<std::unique_ptr<EncounterScanner>> owned;
+  std::vector<CountingScanner*> counting;
+  std::vector<EncounterScanner*> scanners;
+  for (std::size_t k = 0; k < at_once; ++k) {
+    owned.push_back(std::make_unique<CountingScanner>(settings));
+    counting.push_back(static_cast<CountingScanner*>(owned.back().get()));
+    scanners.push_back(owned.back().get());
+  }
+  StepsInFlight flight(scanners);
   std::vector<double> detect_walls(static_cast<std::size_t>(repeats), 0.0), detect_cpu = detect_walls;
-  double grid = 0.0, propagate_s = 0.0;
-  std::size_t candidates = 0, collisions = 0, evasions = 0, burn_ups = 0;
-  std::vector<Encounter> found, scratch;
+  double propagate_s = 0.0;
+  std::size_t collisions = 0, evasions = 0, burn_ups = 0;
+  std::vector<Encounter> found;
+  std::vector<std::vector<Encounter>> batch_found, scratch;
   std::vector<char> flags;
-  StateArrays start_states;
-  for (std::int64_t s = 0; s < steps; ++s) {
-    const double t0 = static_cast<double>(s) * dt;
-    // The start states are copied in the propagator's own pass, as the simulation does: each thread
-    // copies the chunk it propagates, so the detector's passes read them on the core that wrote them.
-    const double propagate_start = now_s();
-    propagator.step_keeping_start(population, t0, dt, start_states);
-    propagate_s += now_s() - propagate_start;
-    const StepEnds step{t0, dt, &start_states, &population.state, propagator.last_chunks()};
+  const StepRequest burn_up_request{nullptr, &flags, burn_up_radius2(150e3)};
+  for (std::int64_t s = 0; s < steps;) {
+    std::vector<BurnUp> gone;
+    while (!flight.full() && s + static_cast<std::int64_t>(flight.size()) < steps && gone.empty()) {
+      const double t0 = static_cast<double>(s + static_cast<std::int64_t>(flight.size())) * dt;
+      const double propagate_start = now_s();
+      propagator.step_with(population, t0, dt, flight.request_for_next(burn_up_request));
+      flight.push(t0, dt, propagator.last_chunks());
+      propagate_s += now_s() - propagate_start;
+      gone = flagged_burn_ups(population, t0 + dt, flags);
+    }
+    const std::size_t batch = flight.size();
     for (int rep = 0; rep < repeats; ++rep) {
-      scratch.clear();
+      for (CountingScanner* c : counting) c->counting = rep == 0;
+      std::vector<std::vector<Encounter>>& out = rep == 0 ? batch_found : scratch;
+      for (std::vector<Encounter>& o : out) o.clear();
       const double wall_start = now_s(), cpu_start = process_cpu_s();
-      detector.scan(population, step, rep == 0 ? found : scratch);
+      flight.scan(population, out);
       detect_walls[static_cast<std::size_t>(rep)] += now_s() - wall_start;
       detect_cpu[static_cast<std::size_t>(rep)] += process_cpu_s() - cpu_start;
-      if (rep == 0) {
-        candidates += detector.last_candidate_pairs();
-        grid += detector.last_grid_s();
-      }
     }
-    const auto gone = find_burn_ups(population, 150e3, t0 + dt, flags);
+    for (std::size_t j = 0; j < batch; ++j)
+      found.insert(found.end(), batch_found[j].begin(), batch_found[j].end());
     if (!gone.empty()) {
       burn_ups += gone.size();
       population.remove_flagged(flags);
     }
+    flight.restart(!gone.empty());
+    s += static_cast<std::int64_t>(batch);
   }
+  std::size_t candidates = 0;
+  double grid = 0.0;
+  for (const CountingScanner* c : counting) {
+    candidates += c->candidates;
+    grid += c->grid_s;
+  }
+  const ConjunctionDetector& detector = counting[0]->detector();
   const std::size_t events = found.size();
   for (int rep = 0; rep < repeats; ++rep)
     std::printf("repeat %d: detection %.4f s, %.1f ns/object-step\n", rep + 1,
@@ -119,6 +171,7 @@ int run(int argc, char** argv) {
       .add("kappa_max", settings.kappa_max)
       .add("screening_km", settings.screening_distance_m / 1e3)
       .add("repeats", static_cast<std::int64_t>(repeats))
+      .add("steps_at_once", static_cast<std::int64_t>(at_once))
       .add("wall_s", propagate_s + detect)
       .add("propagate_s", propagate_s)
       .add("detect_s", detect)
@@ -133,7 +186,8 @@ int run(int argc, char** argv) {
       // CPU time of the process during detection: with 1 thread, immune to time-slicing by other load.
       .add("detect_cpu_ns_per_object_step", median(detect_cpu) * 1e9 / object_steps)
       .add("detect_ns_per_object_step_first_repeat", detect_walls[0] * threads * 1e9 / object_steps)
-      .add("grid_ns_per_object_step", grid * threads * 1e9 / object_steps)
+      // Steps in flight: each scan's seconds are one thread's; one at a time: the team's wall time.
+      .add("grid_ns_per_object_step", grid * (at_once > 1 ? 1.0 : threads) * 1e9 / object_steps)
       .add("grid_cell_km", detector.grid().cell_size_m() / 1e3)
       .add("grid_column_km", detector.grid().column_width_m() / 1e3)
       .add("grid_rekeyed_fraction",

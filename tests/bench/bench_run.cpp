@@ -66,7 +66,7 @@ std::int64_t peak_rss_bytes() {
 class GridFiguresScanner final : public EncounterScanner {
  public:
   GridFiguresScanner(const ConjunctionSettings& settings, std::size_t team, std::size_t regions)
-      : detector_(settings), team_(team) {
+      : settings_(settings), detector_(settings), team_(team), regions_(regions) {
     detector_.set_grid_regions(regions);
   }
   void scan(const Population& population, const StepEnds& step, std::vector<Encounter>& out) override {
@@ -75,7 +75,8 @@ class GridFiguresScanner final : public EncounterScanner {
     cell_km_sum_ += grid.cell_size_m() / 1e3;
     column_km_sum_ += grid.column_width_m() / 1e3;
     ++all_scans_;
-    if (team_ < 2 || grid.slot_count() == 0) return;
+    // A step in flight is scanned by one thread: its grid has one region.
+    if (team_ < 2 || omp_in_parallel() || grid.slot_count() == 0) return;
     std::size_t fullest = 0;
     for (std::size_t t = 0; t < team_; ++t) {
       const auto [first, last] = grid.sorted_slots(t, team_);
@@ -86,6 +87,11 @@ class GridFiguresScanner final : public EncounterScanner {
     ++scans_;
   }
   double last_grid_s() const override { return detector_.last_grid_s(); }
+  // Steps in flight: the others' grids have one region each (a team of one), and their figures are
+  // left out.
+  std::unique_ptr<EncounterScanner> another() const override {
+    return std::make_unique<GridFiguresScanner>(settings_, 1, regions_);
+  }
   // The grid's cell edges [km], along y and z and along x (the columns), averaged over the scans.
   double mean_cell_km() const {
     return all_scans_ > 0 ? cell_km_sum_ / static_cast<double>(all_scans_) : 0.0;
@@ -99,8 +105,9 @@ class GridFiguresScanner final : public EncounterScanner {
   }
 
  private:
+  ConjunctionSettings settings_;
   ConjunctionDetector detector_;
-  std::size_t team_;
+  std::size_t team_, regions_;
   double fullest_over_mean_sum_ = 0.0, cell_km_sum_ = 0.0, column_km_sum_ = 0.0;
   std::size_t scans_ = 0, all_scans_ = 0;
 };
@@ -182,13 +189,14 @@ int run(int argc, char** argv) {
   Args args(argc, argv);
   args.allow_only({"--dataset", "--objects", "--days", "--threads", "--kappa", "--screen-km", "--dt",
                    "--events-out", "--seed", "--no-detection", "--narrow", "--integrator", "--phase-times",
-                   "--cpu-times", "--no-cpu-times", "--regions"});
+                   "--cpu-times", "--no-cpu-times", "--regions", "--steps-at-once"});
   const std::string dataset = args.get("--dataset", "leo-19647");
   const double days = args.get_double("--days", 1.0);
   const int threads = static_cast<int>(args.get_int("--threads", 1));
   const double dt = args.get_double("--dt", kDefaultDt_s);
   const std::int64_t objects_wanted = args.get_int("--objects", dataset == "synthetic" ? 20000 : 0);
   const std::int64_t regions_wanted = args.get_int("--regions", 0);
+  const std::int64_t steps_at_once = args.get_int("--steps-at-once", 0);
   const auto seed = static_cast<std::uint64_t>(args.get_int("--seed", 1));
   const std::string narrow = args.get("--narrow", "hermite");
   const std::string integrator =
@@ -207,6 +215,11 @@ int run(int argc, char** argv) {
     return 2;
   }
   const auto regions = static_cast<std::size_t>(regions_wanted);
+  if (steps_at_once < 0 || steps_at_once > 1024) {
+    std::cerr << "kessler-bench run: --steps-at-once must be 0 (one per thread) to 1024, got "
+              << steps_at_once << "\n";
+    return 2;
+  }
   if (args.has("--kappa") && args.has("--screen-km")) {
     std::cerr << "kessler-bench run: give --kappa or --screen-km, not both\n";
     return 2;
@@ -226,6 +239,7 @@ int run(int argc, char** argv) {
   config.dt_s = dt;
   config.integrator = *composition;
   config.threads = threads;
+  config.scan_steps_at_once = static_cast<int>(steps_at_once);
   config.seed = seed;
   config.checkpoint_every_steps = 0;
   config.checkpoint_every_wall_s = 0.0;
@@ -328,7 +342,7 @@ int run(int argc, char** argv) {
   }
   // Where each thread of the step's two parallel regions spends its time (team_timeline.hpp).
   const bool phase_times = args.has("--phase-times");
-  for (TeamTimeline* timeline : {&propagator_timeline(), &detector_timeline()}) {
+  for (TeamTimeline* timeline : {&propagator_timeline(), &detector_timeline(), &flight_timeline()}) {
     timeline->reset();
     timeline->enable(phase_times);
   }
@@ -411,7 +425,8 @@ int run(int argc, char** argv) {
   if (phase_times) {
     // Per segment: the mean over the threads and the largest, seconds summed over the run.
     for (auto [prefix, timeline] :
-         {std::pair{"prop", &propagator_timeline()}, std::pair{"det", &detector_timeline()}}) {
+         {std::pair{"prop", &propagator_timeline()}, std::pair{"det", &detector_timeline()},
+          std::pair{"flight", &flight_timeline()}}) {
       for (std::size_t s = 0; s < timeline->segments().size(); ++s) {
         const auto [mean, most] = timeline->mean_and_max(static_cast<int>(s));
         const std::string key = std::string("t_") + prefix + "_" + timeline->segments()[s];

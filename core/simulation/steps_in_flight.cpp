@@ -1,0 +1,82 @@
+#include "core/simulation/steps_in_flight.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "core/integration/team_timeline.hpp"
+
+namespace kessler {
+
+StepsInFlight::StepsInFlight(std::vector<EncounterScanner*> scanners) : scanners_(std::move(scanners)) {
+  if (scanners_.empty()) throw std::invalid_argument("StepsInFlight: no scanner");
+  ring_.resize(scanners_.size() + 1);
+}
+
+StepRequest StepsInFlight::request_for_next(StepRequest base) {
+  if (full()) throw std::logic_error("StepsInFlight: no room for another step");
+  const std::int64_t start = first_boundary_ + static_cast<std::int64_t>(steps_.size());
+  base.start_out = steps_.empty() && !start_in_ring_ ? &slot(start) : nullptr;
+  base.end_out = &slot(start + 1);
+  return base;
+}
+
+void StepsInFlight::push(double t_start_s, double dt_s, const ChunkLayout* chunks) {
+  steps_.push_back({t_start_s, dt_s, chunks});
+}
+
+void StepsInFlight::restart(bool population_changed) {
+  first_boundary_ += static_cast<std::int64_t>(steps_.size());
+  // The last batch's end is the next one's start, unless objects came or went since.
+  if (!steps_.empty()) start_in_ring_ = true;
+  if (population_changed) start_in_ring_ = false;
+  steps_.clear();
+}
+
+void StepsInFlight::scan(const Population& population, std::vector<std::vector<Encounter>>& out) {
+  const std::size_t m = steps_.size();
+  out.resize(std::max(out.size(), m));
+  const double start = omp_get_wtime();
+  double grid_share = 0.0;
+  if (m == 1) {
+    // One step: its scanner's own team, each thread reading the chunk its core propagated.
+    const HeldStep& h = steps_[0];
+    const StepEnds ends{h.t_start_s, h.dt_s, &slot(first_boundary_), &slot(first_boundary_ + 1), h.chunks};
+    scanners_[0]->scan(population, ends, out[0]);
+    const double scan_s = omp_get_wtime() - start;
+    grid_share = scan_s > 0.0 ? std::min(1.0, scanners_[0]->last_grid_s() / scan_s) : 0.0;
+  } else if (m > 1) {
+    std::vector<double> shares(m, 0.0);
+    const int threads = std::min(static_cast<int>(m), omp_get_max_threads());
+    TeamTimeline& timeline = flight_timeline();
+    timeline.region_start(static_cast<std::size_t>(threads));
+#pragma omp parallel num_threads(threads)
+    {
+      const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
+      timeline.enter(t);
+      // Each scan on a team of one (its parallel regions nest inside this one), with no timeline.
+      omp_set_num_threads(1);
+      scanning_in_flight = true;
+#pragma omp for schedule(dynamic, 1)
+      for (std::size_t j = 0; j < m; ++j) {
+        const HeldStep& h = steps_[j];
+        const std::int64_t b = first_boundary_ + static_cast<std::int64_t>(j);
+        // No chunks: one thread reads every object's states.
+        const StepEnds ends{h.t_start_s, h.dt_s, &slot(b), &slot(b + 1), nullptr};
+        const double scan_start = omp_get_wtime();
+        scanners_[j]->scan(population, ends, out[j]);
+        const double scan_s = omp_get_wtime() - scan_start;
+        shares[j] = scan_s > 0.0 ? std::min(1.0, scanners_[j]->last_grid_s() / scan_s) : 0.0;
+      }
+      scanning_in_flight = false;
+      timeline.mark(t, kFlightScans);
+    }
+    timeline.region_end();
+    for (const double s : shares) grid_share += s / static_cast<double>(m);
+  }
+  last_scan_s_ = omp_get_wtime() - start;
+  last_grid_s_ = last_scan_s_ * grid_share;
+}
+
+}  // namespace kessler
