@@ -242,7 +242,10 @@ RunSummary Simulation::run(EventSink& sink, RunControl& control) {
   std::unique_ptr<StepsInFlight> flight;
   if (s.parts.scanner) {
     std::vector<EncounterScanner*> scanners{s.parts.scanner.get()};
-    const int at_once = cfg.scan_steps_at_once > 0 ? cfg.scan_steps_at_once : omp_get_max_threads();
+    const int at_once = cfg.scan_steps_at_once > 0
+                            ? cfg.scan_steps_at_once
+                            : static_cast<int>(steps_in_flight_for(
+                                  s.population.size(), static_cast<std::size_t>(omp_get_max_threads())));
     while (static_cast<int>(scanners.size()) < at_once) {
       std::unique_ptr<EncounterScanner> another = s.parts.scanner->another();
       if (!another) break;
@@ -297,7 +300,8 @@ RunSummary Simulation::run(EventSink& sink, RunControl& control) {
         // Integrate.
         auto t = Clock::now();
         if (flight) {
-          s.parts.propagator->step_with(pop, t0_s, cfg.dt_s, flight->request_for_next(request));
+          s.parts.propagator->step_with(pop, t0_s, cfg.dt_s,
+                                        flight->request_for_next(request, next + 1 == batch_end));
           flight->push(t0_s, cfg.dt_s, s.parts.propagator->last_chunks());
         } else {
           s.parts.propagator->step_with(pop, t0_s, cfg.dt_s, request);
@@ -325,7 +329,7 @@ RunSummary Simulation::run(EventSink& sink, RunControl& control) {
           timers.grid_s += flight->last_grid_s();
           timers.detection_s += flight->last_scan_s() - flight->last_grid_s();
         }
-        flight->restart(!burned.empty());
+        flight->restart();
       }
 
       // Events, step by step, in sequence order: encounters (canonical), burn-ups (by id, on the batch's

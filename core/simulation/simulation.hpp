@@ -35,18 +35,20 @@ struct SimulationConfig {
   std::uint64_t seed = 1;
   int threads = 0;  // 0: OpenMP's default
   // Steps whose conjunction scans run side by side, each on one thread (steps_in_flight.hpp); 0: one
-  // per thread, 1: one step at a time on the whole team. Never changes a result.
+  // per thread where their memory fits steps_in_flight_for's budget, else 1; 1: one step at a time on
+  // the whole team. Never changes a result.
   int scan_steps_at_once = 0;
 };
 
 // Steps in a run: whole steps of dt_s that fit in duration_s (a last partial step is not taken).
 std::int64_t total_steps_of(const SimulationConfig& config);
 
-// Flags a host sets from another thread; the loop reads them once per step.
+// Flags a host sets from another thread; the loop reads them at each step boundary between batches of
+// steps in flight (every step on one thread; every T steps on T threads: steps_in_flight.hpp).
 struct RunControl {
   std::atomic<bool> cancel{false};
   std::atomic<bool> pause{false};
-  // Write a checkpoint at the end of the current step (e.g. on SIGTERM), then clear the flag.
+  // Write a checkpoint at the end of the current batch (e.g. on SIGTERM), then clear the flag.
   std::atomic<bool> checkpoint_now{false};
   // Stop after writing the next checkpoint (graceful shutdown: the run stays resumable).
   std::atomic<bool> stop_after_checkpoint{false};

@@ -11,14 +11,14 @@ namespace kessler {
 
 StepsInFlight::StepsInFlight(std::vector<EncounterScanner*> scanners) : scanners_(std::move(scanners)) {
   if (scanners_.empty()) throw std::invalid_argument("StepsInFlight: no scanner");
-  ring_.resize(scanners_.size() + 1);
+  starts_.resize(scanners_.size());
 }
 
-StepRequest StepsInFlight::request_for_next(StepRequest base) {
+StepRequest StepsInFlight::request_for_next(StepRequest base, bool last) {
   if (full()) throw std::logic_error("StepsInFlight: no room for another step");
-  const std::int64_t start = first_boundary_ + static_cast<std::int64_t>(steps_.size());
-  base.start_out = steps_.empty() && !start_in_ring_ ? &slot(start) : nullptr;
-  base.end_out = &slot(start + 1);
+  const std::size_t j = steps_.size();
+  if (j == 0) base.start_out = &starts_[0];
+  if (!last && j + 1 < capacity()) base.end_out = &starts_[j + 1];
   return base;
 }
 
@@ -26,12 +26,12 @@ void StepsInFlight::push(double t_start_s, double dt_s, const ChunkLayout* chunk
   steps_.push_back({t_start_s, dt_s, chunks});
 }
 
-void StepsInFlight::restart(bool population_changed) {
-  first_boundary_ += static_cast<std::int64_t>(steps_.size());
-  // The last batch's end is the next one's start, unless objects came or went since.
-  if (!steps_.empty()) start_in_ring_ = true;
-  if (population_changed) start_in_ring_ = false;
+void StepsInFlight::restart() {
   steps_.clear();
+}
+
+const StateArrays& StepsInFlight::end_of(std::size_t j, const Population& population) const {
+  return j + 1 < steps_.size() ? starts_[j + 1] : population.state;
 }
 
 void StepsInFlight::scan(const Population& population, std::vector<std::vector<Encounter>>& out) {
@@ -42,7 +42,7 @@ void StepsInFlight::scan(const Population& population, std::vector<std::vector<E
   if (m == 1) {
     // One step: its scanner's own team, each thread reading the chunk its core propagated.
     const HeldStep& h = steps_[0];
-    const StepEnds ends{h.t_start_s, h.dt_s, &slot(first_boundary_), &slot(first_boundary_ + 1), h.chunks};
+    const StepEnds ends{h.t_start_s, h.dt_s, &starts_[0], &population.state, h.chunks};
     scanners_[0]->scan(population, ends, out[0]);
     const double scan_s = omp_get_wtime() - start;
     grid_share = scan_s > 0.0 ? std::min(1.0, scanners_[0]->last_grid_s() / scan_s) : 0.0;
@@ -58,12 +58,14 @@ void StepsInFlight::scan(const Population& population, std::vector<std::vector<E
       // Each scan on a team of one (its parallel regions nest inside this one), with no timeline.
       omp_set_num_threads(1);
       scanning_in_flight = true;
-#pragma omp for schedule(dynamic, 1)
+      // Step j on thread j % threads, always: scanner j's grid (megabytes of scratch) then stays in one
+      // core's caches from batch to batch. Handed out as threads come free, the scanners moved between
+      // cores, and every scan began by fetching its grid from the other core.
+#pragma omp for schedule(static, 1)
       for (std::size_t j = 0; j < m; ++j) {
         const HeldStep& h = steps_[j];
-        const std::int64_t b = first_boundary_ + static_cast<std::int64_t>(j);
         // No chunks: one thread reads every object's states.
-        const StepEnds ends{h.t_start_s, h.dt_s, &slot(b), &slot(b + 1), nullptr};
+        const StepEnds ends{h.t_start_s, h.dt_s, &starts_[j], &end_of(j, population), nullptr};
         const double scan_start = omp_get_wtime();
         scanners_[j]->scan(population, ends, out[j]);
         const double scan_s = omp_get_wtime() - scan_start;

@@ -24,6 +24,20 @@
 
 namespace kessler {
 
+// Steps in flight cost memory: each step beyond the first has a detector (its grid's scratch) and a copy
+// of the states, ~330 bytes per object together (leo-19647: 508 B per object at peak on one thread, 842
+// with two steps in flight). Where the extra steps' share would pass this, the loop scans one step at a
+// time on the whole team instead: fewer steps than threads would leave threads idle in the scans.
+inline constexpr std::size_t kFlightBytesPerObjectPerStep = 400;
+inline constexpr std::size_t kFlightMemoryBudgetBytes = std::size_t{256} << 20;
+
+// The steps to scan at once when the configuration leaves it open: one per thread, within the budget.
+inline std::size_t steps_in_flight_for(std::size_t objects, std::size_t threads) {
+  if (threads < 2) return 1;
+  const std::size_t extra = objects * (threads - 1) * kFlightBytesPerObjectPerStep;
+  return extra <= kFlightMemoryBudgetBytes ? threads : 1;
+}
+
 class StepsInFlight {
  public:
   // Up to scanners.size() steps at once (one scanner each; the caller owns them). One scanner: the
@@ -34,17 +48,19 @@ class StepsInFlight {
   std::size_t size() const { return steps_.size(); }
   bool full() const { return steps_.size() == scanners_.size(); }
 
-  // The propagator's request for the next step: `base` (burn-up flags), the step's end states copied
-  // into the ring, and, for the first step after restart(), its start states too.
-  StepRequest request_for_next(StepRequest base);
+  // The propagator's request for the next step: `base` (burn-up flags), and copies of the states the
+  // scans will need: the batch's first step copies its start states, every step but the last its end
+  // states (the next step's start). last: no step follows in this batch (the caller knows when the batch
+  // is full or ends at a checkpoint or at the run's end; where a burn-up ends it, one copy goes unread).
+  StepRequest request_for_next(StepRequest base, bool last);
   // Records the step just propagated with request_for_next's request.
   void push(double t_start_s, double dt_s, const ChunkLayout* chunks);
   // Scans every step held, step j's encounters appended to out[j] (resized to size()) in canonical
-  // order. `population` is the one all held steps were propagated with.
+  // order. `population` is the one all held steps were propagated with, its states the last step's end.
   void scan(const Population& population, std::vector<std::vector<Encounter>>& out);
-  // Forgets the held steps: the next step starts a new batch. population_changed: objects were removed or
-  // added since the last step, so its start states must be copied afresh rather than read from the ring.
-  void restart(bool population_changed);
+  // Forgets the held steps: the next step starts a new batch (and copies its start states again, so the
+  // population may change in between).
+  void restart();
 
   // Seconds of the last scan() (wall) and the part of it in the broad phase (each scanner's share of
   // its own time, averaged over the steps).
@@ -56,15 +72,13 @@ class StepsInFlight {
     double t_start_s, dt_s;
     const ChunkLayout* chunks;
   };
-  StateArrays& slot(std::int64_t boundary) {
-    return ring_[static_cast<std::size_t>(boundary) % ring_.size()];
-  }
+  // Step j's end states: the next step's start, and the population's own states for the last step.
+  const StateArrays& end_of(std::size_t j, const Population& population) const;
 
   std::vector<EncounterScanner*> scanners_;
-  // Each step boundary's states: boundary k in ring_[k % size]. A batch of B steps reads B + 1.
-  std::vector<StateArrays> ring_;
-  std::int64_t first_boundary_ = 0;  // the boundary the held steps start at
-  bool start_in_ring_ = false;       // whether slot(first_boundary_) holds it already
+  // starts_[j]: the start states of the batch's step j. The last step's end is the population's states,
+  // so a batch of B steps copies B boundaries, as many as one step at a time copies (its starts).
+  std::vector<StateArrays> starts_;
   std::vector<HeldStep> steps_;
   double last_scan_s_ = 0.0, last_grid_s_ = 0.0;
 };

@@ -95,8 +95,9 @@ int run(int argc, char** argv) {
   // ends at a step where objects burn up). Detection runs --repeats times on each batch (the first
   // one's events are kept); each repeat's time is summed over the batches and the median of the sums
   // reported. Memory stays O(N) for long runs.
-  const std::size_t at_once =
-      at_once_wanted > 0 ? static_cast<std::size_t>(at_once_wanted) : static_cast<std::size_t>(threads);
+  const std::size_t at_once = at_once_wanted > 0
+                                  ? static_cast<std::size_t>(at_once_wanted)
+                                  : steps_in_flight_for(population.size(), static_cast<std::size_t>(threads));
   std::vector<std::unique_ptr<EncounterScanner>> owned;
   std::vector<CountingScanner*> counting;
   std::vector<EncounterScanner*> scanners;
@@ -118,7 +119,9 @@ int run(int argc, char** argv) {
     while (!flight.full() && s + static_cast<std::int64_t>(flight.size()) < steps && gone.empty()) {
       const double t0 = static_cast<double>(s + static_cast<std::int64_t>(flight.size())) * dt;
       const double propagate_start = now_s();
-      propagator.step_with(population, t0, dt, flight.request_for_next(burn_up_request));
+      const bool last =
+          flight.size() + 1 == flight.capacity() || s + static_cast<std::int64_t>(flight.size()) + 1 == steps;
+      propagator.step_with(population, t0, dt, flight.request_for_next(burn_up_request, last));
       flight.push(t0, dt, propagator.last_chunks());
       propagate_s += now_s() - propagate_start;
       gone = flagged_burn_ups(population, t0 + dt, flags);
@@ -139,7 +142,7 @@ int run(int argc, char** argv) {
       burn_ups += gone.size();
       population.remove_flagged(flags);
     }
-    flight.restart(!gone.empty());
+    flight.restart();
     s += static_cast<std::int64_t>(batch);
   }
   std::size_t candidates = 0;

@@ -246,8 +246,9 @@ TEST(Yoshida, StepKeepingStartCopiesTheStartAndStepsAsUsual) {
 // low objects after their sub-steps too. A radius a hair outside and at a low object's end
 // position (the next double above its squared radius, and that radius) tells its final state from the
 // main pass's (a fraction of a millimetre apart); the other objects' flags match a
-// scan of the end states, with 1 and 2 threads.
-TEST(Yoshida, BurnUpFlagsInTheStepAreThoseOfTheEndStates) {
+// scan of the end states, with 1 and 2 threads. The copies of the start and end states made in the same
+// pass (StepRequest::start_out, end_out) are those states bit for bit.
+TEST(Yoshida, BurnUpFlagsAndCopiesInTheStepAreThoseOfTheEndStates) {
   Population start;
   for (int k = 0; k < 3000; ++k) {
     Eigen::Vector3d r, v;
@@ -271,12 +272,23 @@ TEST(Yoshida, BurnUpFlagsInTheStepAreThoseOfTheEndStates) {
     flagging.set_threads(threads);
     Population a = start, b = start;
     std::vector<char> in_step, scanned;
-    StateArrays start_states;
+    StateArrays start_states, end_states;
     std::size_t burning = 0;
     for (int s = 0; s < 30; ++s) {
       plain.step(a, s * 10.0, 10.0);
-      flagging.step_with(b, s * 10.0, 10.0, StepRequest{&start_states, &in_step, radius2_150km});
+      const StateArrays before = b.state;
+      flagging.step_with(b, s * 10.0, 10.0, StepRequest{&start_states, &in_step, radius2_150km, &end_states});
       ASSERT_EQ(a.state.x, b.state.x);
+      // The copies of both ends, the low objects' end states included (written after their sub-steps).
+      for (auto [copy, real] : {std::pair<const StateArrays*, const StateArrays*>{&start_states, &before},
+                                std::pair<const StateArrays*, const StateArrays*>{&end_states, &b.state}}) {
+        ASSERT_EQ(copy->x, real->x) << "step " << s;
+        ASSERT_EQ(copy->y, real->y);
+        ASSERT_EQ(copy->z, real->z);
+        ASSERT_EQ(copy->vx, real->vx);
+        ASSERT_EQ(copy->vy, real->vy);
+        ASSERT_EQ(copy->vz, real->vz);
+      }
       flag_burn_ups(a.state, radius2_150km, scanned);
       ASSERT_EQ(in_step, scanned) << "step " << s;
       for (char f : in_step) burning += f != 0;

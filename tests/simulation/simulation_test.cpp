@@ -7,8 +7,10 @@
 #include <random>
 #include <thread>
 
+#include "core/integration/symplectic_propagator.hpp"
 #include "core/simulation/checkpoint.hpp"
 #include "core/simulation/sha256.hpp"
+#include "core/simulation/steps_in_flight.hpp"
 #include "tests/simulation/test_doubles.hpp"
 
 namespace kessler {
@@ -68,6 +70,78 @@ TEST(Simulation, OneTwoAndFourThreadsGiveTheSameBits) {
   }
 }
 
+// Steps in flight (steps_in_flight.hpp): scanned side by side, each by a scanner of its own, the steps give
+// the events and states of one step at a time, bit for bit. Batches end at burn-ups (this run has
+// some), at checkpoint steps, and hold more steps than threads where asked.
+TEST(Simulation, StepsInFlightGiveTheBitsOfOneStepAtATime) {
+  auto config = test_config(240, 2);
+  config.scan_steps_at_once = 1;
+  auto reference = run_fresh(config);
+  ASSERT_GT(reference->summary.burn_ups, 0u);
+  ASSERT_GT(reference->summary.conjunctions + reference->summary.evasions, 5u);
+  struct Variant {
+    int threads, at_once;
+    std::int64_t checkpoint_every;
+  };
+  for (const Variant v : {Variant{2, 0, 0}, Variant{3, 0, 7}, Variant{2, 5, 0}, Variant{4, 3, 10}}) {
+    auto c = config;
+    c.threads = v.threads;
+    c.scan_steps_at_once = v.at_once;
+    c.checkpoint_every_steps = v.checkpoint_every;
+    auto run = run_fresh(c);
+    SCOPED_TRACE(std::to_string(v.threads) + " threads, " + std::to_string(v.at_once) + " at once");
+    expect_same_events(reference->sink.events, run->sink.events);
+    expect_same_states(reference->final_population, run->final_population);
+    EXPECT_EQ(run->summary.events_digest, reference->summary.events_digest);
+    for (const Checkpoint& k : run->sink.checkpoints) EXPECT_EQ(k.step % v.checkpoint_every, 0);
+    if (v.checkpoint_every > 0)
+      EXPECT_EQ(run->sink.checkpoints.size(), static_cast<std::size_t>(239 / v.checkpoint_every));
+  }
+}
+
+// The same with the project's parts: the Yoshida-family propagator (its end-state copies) and the grid
+// detector, whose steps in flight each build a grid of their own.
+TEST(Simulation, ProjectPartsInFlightGiveTheBitsOfOneStepAtATime) {
+  auto config = test_config(120, 1);
+  config.conjunctions.screening_distance_m = 20e3;
+  auto run_with = [&](int threads, int at_once) {
+    auto c = config;
+    c.threads = threads;
+    c.scan_steps_at_once = at_once;
+    auto out = std::make_unique<Outcome>();
+    Simulation sim(c, test_population(kObjects),
+                   std::make_unique<SymplecticPropagator>(c.force_model, c.start_epoch, c.integrator));
+    RunControl control;
+    out->summary = sim.run(out->sink, control);
+    out->final_population = sim.population();
+    return out;
+  };
+  auto one = run_with(1, 0);
+  ASSERT_GT(one->summary.conjunctions + one->summary.evasions, 5u);
+  ASSERT_GT(one->summary.burn_ups, 0u);
+  for (auto [threads, at_once] : {std::pair{2, 0}, std::pair{3, 0}, std::pair{2, 4}}) {
+    auto many = run_with(threads, at_once);
+    SCOPED_TRACE(std::to_string(threads) + " threads, " + std::to_string(at_once) + " at once");
+    expect_same_events(one->sink.events, many->sink.events);
+    expect_same_states(one->final_population, many->final_population);
+  }
+}
+
+// One step per thread where the extra steps' memory fits the budget, else one step at a time.
+TEST(Simulation, StepsInFlightStayWithinTheirMemoryBudget) {
+  EXPECT_EQ(steps_in_flight_for(20000, 1), 1u);
+  EXPECT_EQ(steps_in_flight_for(20000, 2), 2u);
+  EXPECT_EQ(steps_in_flight_for(20000, 16), 16u);
+  EXPECT_EQ(steps_in_flight_for(320000, 2), 2u);
+  EXPECT_EQ(steps_in_flight_for(320000, 16), 1u);  // 15 more grids: ~1.9 GB
+  for (std::size_t threads : {2u, 4u, 16u, 64u})
+    for (std::size_t objects : {1000u, 50000u, 400000u, 3000000u}) {
+      const std::size_t at_once = steps_in_flight_for(objects, threads);
+      EXPECT_TRUE(at_once == 1 || at_once == threads);
+      EXPECT_LE((at_once - 1) * objects * kFlightBytesPerObjectPerStep, kFlightMemoryBudgetBytes);
+    }
+}
+
 TEST(Simulation, SequenceNumbersAreGaplessAndOrderedWithinASTep) {
   auto run = run_fresh(test_config(120, 2));
   const auto& ev = run->sink.events;
@@ -114,7 +188,9 @@ TEST(Simulation, ResumedFromItsLastCheckpointMatchesAnUninterruptedRun) {
       Simulation sim(config, test_population(kObjects), test_parts());
       auto s = sim.run(first, control);
       ASSERT_TRUE(s.cancelled);
-      ASSERT_EQ(sim.step(), stop_step);
+      // Read at the end of the batch: two steps in flight on two threads.
+      ASSERT_GE(sim.step(), stop_step);
+      ASSERT_LE(sim.step(), stop_step + 1);
     }
     ASSERT_FALSE(first.checkpoints.empty());
     const Checkpoint& last = first.checkpoints.back();

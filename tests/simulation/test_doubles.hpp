@@ -50,6 +50,9 @@ class KeplerRk4Propagator final : public Propagator {
 class BruteForceScanner final : public EncounterScanner {
  public:
   explicit BruteForceScanner(double threshold_m) : threshold_m_(threshold_m) {}
+  std::unique_ptr<EncounterScanner> another() const override {
+    return std::make_unique<BruteForceScanner>(threshold_m_);
+  }
   void scan(const Population& p, const StepEnds& step, std::vector<Encounter>& out) override {
     const long n = static_cast<long>(p.size());
     std::vector<std::vector<Encounter>> found(omp_get_max_threads());
