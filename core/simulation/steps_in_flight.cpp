@@ -9,9 +9,11 @@
 
 namespace kessler {
 
-StepsInFlight::StepsInFlight(std::vector<EncounterScanner*> scanners) : scanners_(std::move(scanners)) {
+StepsInFlight::StepsInFlight(std::vector<EncounterScanner*> scanners, std::size_t capacity)
+    : scanners_(std::move(scanners)), capacity_(capacity) {
   if (scanners_.empty()) throw std::invalid_argument("StepsInFlight: no scanner");
-  starts_.resize(scanners_.size());
+  if (capacity_ == 0) throw std::invalid_argument("StepsInFlight: no room for a step");
+  starts_.resize(capacity_);
 }
 
 StepRequest StepsInFlight::request_for_next(StepRequest base, bool last) {
@@ -48,28 +50,29 @@ void StepsInFlight::scan(const Population& population, std::vector<std::vector<E
     grid_share = scan_s > 0.0 ? std::min(1.0, scanners_[0]->last_grid_s() / scan_s) : 0.0;
   } else if (m > 1) {
     std::vector<double> shares(m, 0.0);
-    const int threads = std::min(static_cast<int>(m), omp_get_max_threads());
+    const int threads =
+        static_cast<int>(std::min({m, scanners_.size(), static_cast<std::size_t>(omp_get_max_threads())}));
     TeamTimeline& timeline = flight_timeline();
     timeline.region_start(static_cast<std::size_t>(threads));
 #pragma omp parallel num_threads(threads)
     {
       const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
       timeline.enter(t);
-      // Each scan on a team of one (its parallel regions nest inside this one), with no timeline.
+      // Each scan on a team of one (its parallel regions nest inside this one), with no timeline, and
+      // with this thread's scanner: its grid (megabytes of scratch) stays in one core's caches. The
+      // steps go to the threads as they come free, so a core slowed by other load scans fewer.
       omp_set_num_threads(1);
       scanning_in_flight = true;
-      // Step j on thread j % threads, always: scanner j's grid (megabytes of scratch) then stays in one
-      // core's caches from batch to batch. Handed out as threads come free, the scanners moved between
-      // cores, and every scan began by fetching its grid from the other core.
-#pragma omp for schedule(static, 1)
+      EncounterScanner& scanner = *scanners_[t];
+#pragma omp for schedule(dynamic, 1)
       for (std::size_t j = 0; j < m; ++j) {
         const HeldStep& h = steps_[j];
         // No chunks: one thread reads every object's states.
         const StepEnds ends{h.t_start_s, h.dt_s, &starts_[j], &end_of(j, population), nullptr};
         const double scan_start = omp_get_wtime();
-        scanners_[j]->scan(population, ends, out[j]);
+        scanner.scan(population, ends, out[j]);
         const double scan_s = omp_get_wtime() - scan_start;
-        shares[j] = scan_s > 0.0 ? std::min(1.0, scanners_[j]->last_grid_s() / scan_s) : 0.0;
+        shares[j] = scan_s > 0.0 ? std::min(1.0, scanner.last_grid_s() / scan_s) : 0.0;
       }
       scanning_in_flight = false;
       timeline.mark(t, kFlightScans);

@@ -40,13 +40,14 @@ inline std::size_t steps_in_flight_for(std::size_t objects, std::size_t threads)
 
 class StepsInFlight {
  public:
-  // Up to scanners.size() steps at once (one scanner each; the caller owns them). One scanner: the
-  // step is scanned by its own team, reading states in the propagator's chunks (StepEnds::chunks).
-  explicit StepsInFlight(std::vector<EncounterScanner*> scanners);
+  // Up to `capacity` steps at once, scanned by up to scanners.size() threads, each with a scanner of
+  // its own (the caller owns them). A batch of one step is scanned by scanners[0] on its own team,
+  // reading states in the propagator's chunks (StepEnds::chunks).
+  StepsInFlight(std::vector<EncounterScanner*> scanners, std::size_t capacity);
 
-  std::size_t capacity() const { return scanners_.size(); }
+  std::size_t capacity() const { return capacity_; }
   std::size_t size() const { return steps_.size(); }
-  bool full() const { return steps_.size() == scanners_.size(); }
+  bool full() const { return steps_.size() == capacity_; }
 
   // The propagator's request for the next step: `base` (burn-up flags), and copies of the states the
   // scans will need: the batch's first step copies its start states, every step but the last its end
@@ -76,6 +77,7 @@ class StepsInFlight {
   const StateArrays& end_of(std::size_t j, const Population& population) const;
 
   std::vector<EncounterScanner*> scanners_;
+  std::size_t capacity_;
   // starts_[j]: the start states of the batch's step j. The last step's end is the population's states,
   // so a batch of B steps copies B boundaries, as many as one step at a time copies (its starts).
   std::vector<StateArrays> starts_;

@@ -101,12 +101,12 @@ int run(int argc, char** argv) {
   std::vector<std::unique_ptr<EncounterScanner>> owned;
   std::vector<CountingScanner*> counting;
   std::vector<EncounterScanner*> scanners;
-  for (std::size_t k = 0; k < at_once; ++k) {
+  for (std::size_t k = 0; k < std::min(at_once, static_cast<std::size_t>(threads)); ++k) {
     owned.push_back(std::make_unique<CountingScanner>(settings));
     counting.push_back(static_cast<CountingScanner*>(owned.back().get()));
     scanners.push_back(owned.back().get());
   }
-  StepsInFlight flight(scanners);
+  StepsInFlight flight(scanners, at_once);
   std::vector<double> detect_walls(static_cast<std::size_t>(repeats), 0.0), detect_cpu = detect_walls;
   double propagate_s = 0.0;
   std::size_t collisions = 0, evasions = 0, burn_ups = 0;
