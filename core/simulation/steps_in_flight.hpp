@@ -1,12 +1,13 @@
 // Conjunction scans of consecutive steps side by side: a team of T threads propagates T steps one after
 // the other (each step in parallel over objects, as always), then scans them at once, each step whole on
-// one thread with a scanner of its own.
+// one thread, with that thread's own scanner.
 //
 // Why: a step's scan split over a team needs its threads to exchange records (each core propagated a
 // chunk of the catalog, but sorts and walks a region of space), and with two cores far apart that
-// exchange cost as much as the rest of the scan's excess together (core/conjunctions/README.md, "Steps
-// in flight"). A whole step on one core shares nothing while it runs: it reads each state once, in
-// sequence, from the core that propagated it, and writes only its own grid.
+// exchange, the barriers and the uneven regions cost a 2-thread scan a fifth of its time. A whole step
+// on one core has none of them: it reads its step's states, half of them from the other core's caches,
+// in sequence, and writes only its own grid. What it costs: the propagator then writes lines the other
+// core has read (core/conjunctions/README.md, "Steps in flight").
 //
 // Results: a scan reads only its step's two ends and the population, so each step's encounters are the
 // same bits whichever thread scans it and however many steps are in flight. The population may change
@@ -24,10 +25,11 @@
 
 namespace kessler {
 
-// Steps in flight cost memory: each step beyond the first has a detector (its grid's scratch) and a copy
-// of the states, ~330 bytes per object together (leo-19647: 508 B per object at peak on one thread, 842
-// with two steps in flight). Where the extra steps' share would pass this, the loop scans one step at a
-// time on the whole team instead: fewer steps than threads would leave threads idle in the scans.
+// Steps in flight cost memory: each thread beyond the first has a detector (its grid's scratch) and each
+// step beyond the first a copy of the states, ~310 bytes per object together (leo-19647 at peak: 471 B
+// per object on one thread, 784 with two steps in flight on two). Where the extra share would pass the
+// budget, the loop scans one step at a time on the whole team instead: fewer steps than threads would
+// leave threads idle in the scans.
 inline constexpr std::size_t kFlightBytesPerObjectPerStep = 400;
 inline constexpr std::size_t kFlightMemoryBudgetBytes = std::size_t{256} << 20;
 
