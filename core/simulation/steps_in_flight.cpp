@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <exception>
 #include <stdexcept>
 
 #include "core/integration/team_timeline.hpp"
@@ -50,6 +51,7 @@ void StepsInFlight::scan(const Population& population, std::vector<std::vector<E
     grid_share = scan_s > 0.0 ? std::min(1.0, scanners_[0]->last_grid_s() / scan_s) : 0.0;
   } else if (m > 1) {
     std::vector<double> shares(m, 0.0);
+    std::vector<std::exception_ptr> failures(m);
     const int threads =
         static_cast<int>(std::min({m, scanners_.size(), static_cast<std::size_t>(omp_get_max_threads())}));
     TeamTimeline& timeline = flight_timeline();
@@ -70,7 +72,12 @@ void StepsInFlight::scan(const Population& population, std::vector<std::vector<E
         // No chunks: one thread reads every object's states.
         const StepEnds ends{h.t_start_s, h.dt_s, &starts_[j], &end_of(j, population), nullptr};
         const double scan_start = omp_get_wtime();
-        scanner.scan(population, ends, out[j]);
+        // An exception may not leave the parallel region: the earliest step's is thrown after it.
+        try {
+          scanner.scan(population, ends, out[j]);
+        } catch (...) {
+          failures[j] = std::current_exception();
+        }
         const double scan_s = omp_get_wtime() - scan_start;
         shares[j] = scan_s > 0.0 ? std::min(1.0, scanner.last_grid_s() / scan_s) : 0.0;
       }
@@ -78,6 +85,8 @@ void StepsInFlight::scan(const Population& population, std::vector<std::vector<E
       timeline.mark(t, kFlightScans);
     }
     timeline.region_end();
+    for (const std::exception_ptr& failure : failures)
+      if (failure) std::rethrow_exception(failure);
     for (const double s : shares) grid_share += s / static_cast<double>(m);
   }
   last_scan_s_ = omp_get_wtime() - start;

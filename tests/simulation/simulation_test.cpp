@@ -384,6 +384,29 @@ TEST(Simulation, FailuresReachTheSink) {
   EXPECT_FALSE(sink.finished.has_value());
 }
 
+// A scanner that fails on a step scanned in flight (inside the batch's parallel region) fails the run
+// the same way: the exception reaches the caller and the sink, nothing terminates.
+TEST(Simulation, AScanFailingInFlightReachesTheSink) {
+  struct Failing : EncounterScanner {
+    void scan(const Population&, const StepEnds& step, std::vector<Encounter>&) override {
+      if (step.t_start_s > 45) throw std::runtime_error("scan failed at " + std::to_string(step.t_start_s));
+    }
+    std::unique_ptr<EncounterScanner> another() const override { return std::make_unique<Failing>(); }
+  };
+  SimulationParts parts;
+  parts.propagator = std::make_unique<KeplerRk4Propagator>();
+  parts.scanner = std::make_unique<Failing>();
+  parts.burn_up = false;
+  auto config = test_config(20, 2);
+  config.scan_steps_at_once = 4;  // steps 4-7 (t = 40 ... 70 s) in one batch: t = 50 fails
+  Simulation sim(config, test_population(10), std::move(parts));
+  RecordingSink sink;
+  RunControl control;
+  EXPECT_THROW(sim.run(sink, control), std::runtime_error);
+  EXPECT_EQ(sink.failure.substr(0, 17), "scan failed at 50");
+  EXPECT_FALSE(sink.finished.has_value());
+}
+
 TEST(Simulation, StepCount) {
   SimulationConfig c;
   c.dt_s = 10;
