@@ -25,17 +25,23 @@
 
 namespace kessler {
 
-// Steps in flight cost memory: each thread beyond the first has a detector (its grid's scratch) and each
-// step beyond the first a copy of the states, ~310 bytes per object together (leo-19647 at peak: 471 B
-// per object on one thread, 784 with two steps in flight on two). Where the extra share would pass the
-// budget, the loop scans one step at a time on the whole team instead: fewer steps than threads would
-// leave threads idle in the scans.
+// Steps in flight pay off only while a step is small. The propagator then writes lines that another
+// core read in its scans (the states and their copies), and for larger populations that costs more than
+// the scans save: on the 2-core development host, whole runs on 2 threads against one step at a time
+// were even at 16,710 and 20,000 objects (detection alone 1.87x against 1.58x), 5 % slower at 40,000, 8 %
+// at 80,000 and 13 % at 320,000 (core/conjunctions/README.md, "Steps in flight").
+inline constexpr std::size_t kFlightMaxObjects = 32768;
+// They cost memory too: each thread beyond the first has a detector (its grid's scratch) and each step
+// beyond the first a copy of the states, ~310 bytes per object together (leo-19647 at peak: 471 B per
+// object on one thread, 784 with two steps in flight on two).
 inline constexpr std::size_t kFlightBytesPerObjectPerStep = 400;
 inline constexpr std::size_t kFlightMemoryBudgetBytes = std::size_t{256} << 20;
 
-// The steps to scan at once when the configuration leaves it open: one per thread, within the budget.
+// The steps to scan at once when the configuration leaves it open: one per thread for populations up
+// to kFlightMaxObjects whose extra memory stays within the budget; else one at a time on the whole team
+// (fewer steps than threads would leave threads idle in the scans).
 inline std::size_t steps_in_flight_for(std::size_t objects, std::size_t threads) {
-  if (threads < 2) return 1;
+  if (threads < 2 || objects > kFlightMaxObjects) return 1;
   const std::size_t extra = objects * (threads - 1) * kFlightBytesPerObjectPerStep;
   return extra <= kFlightMemoryBudgetBytes ? threads : 1;
 }

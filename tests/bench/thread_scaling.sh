@@ -30,7 +30,11 @@ run() {  # name threads args...
 for t in "${threads[@]}"; do
   run propagate "$t" propagate --objects 20000 --steps 200 --repeats 7
   run detect "$t" conjunctions --objects 19647 --steps 200 --repeats 5
+  # The team scan, one step at a time over all threads (the default scans a step per thread side by
+  # side: core/simulation/steps_in_flight.hpp); the 1-thread row is the same path for both.
+  run detect-team "$t" conjunctions --objects 19647 --steps 200 --repeats 5 --steps-at-once 1
   run run-kappa10 "$t" run --dataset leo-19647 --days 0.25 --kappa 10
+  run run-kappa10-team "$t" run --dataset leo-19647 --days 0.25 --kappa 10 --steps-at-once 1
   run run-synthetic-320k "$t" run --dataset synthetic --objects 320000 --days 0.005
 done
 

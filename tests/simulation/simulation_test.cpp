@@ -127,15 +127,17 @@ TEST(Simulation, ProjectPartsInFlightGiveTheBitsOfOneStepAtATime) {
   }
 }
 
-// One step per thread where the extra steps' memory fits the budget, else one step at a time.
-TEST(Simulation, StepsInFlightStayWithinTheirMemoryBudget) {
+// One step per thread for small populations whose extra memory fits the budget, else one at a time.
+TEST(Simulation, StepsInFlightOnlyWhereTheyPay) {
   EXPECT_EQ(steps_in_flight_for(20000, 1), 1u);
   EXPECT_EQ(steps_in_flight_for(20000, 2), 2u);
   EXPECT_EQ(steps_in_flight_for(20000, 16), 16u);
-  EXPECT_EQ(steps_in_flight_for(320000, 2), 2u);
-  EXPECT_EQ(steps_in_flight_for(320000, 16), 1u);  // 15 more grids: ~1.9 GB
-  for (std::size_t threads : {2u, 4u, 16u, 64u})
-    for (std::size_t objects : {1000u, 50000u, 400000u, 3000000u}) {
+  EXPECT_EQ(steps_in_flight_for(kFlightMaxObjects, 2), 2u);
+  EXPECT_EQ(steps_in_flight_for(kFlightMaxObjects + 1, 2), 1u);  // larger steps: the team scan
+  EXPECT_EQ(steps_in_flight_for(320000, 16), 1u);
+  EXPECT_EQ(steps_in_flight_for(20000, 64), 1u);  // 63 more grids: ~500 MB
+  for (std::size_t threads : {2u, 4u, 16u, 64u, 256u})
+    for (std::size_t objects : {1000u, 10000u, 30000u, 400000u}) {
       const std::size_t at_once = steps_in_flight_for(objects, threads);
       EXPECT_TRUE(at_once == 1 || at_once == threads);
       EXPECT_LE((at_once - 1) * objects * kFlightBytesPerObjectPerStep, kFlightMemoryBudgetBytes);
