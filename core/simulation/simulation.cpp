@@ -238,26 +238,11 @@ RunSummary Simulation::run(EventSink& sink, RunControl& control) {
   }
   // Steps scanned side by side (steps_in_flight.hpp): one per thread, with scanners of their own, where
   // the scanner offers copies; else one at a time.
-  std::vector<std::unique_ptr<EncounterScanner>> more_scanners;
   std::unique_ptr<StepsInFlight> flight;
-  if (s.parts.scanner) {
-    std::vector<EncounterScanner*> scanners{s.parts.scanner.get()};
-    const std::size_t threads = static_cast<std::size_t>(omp_get_max_threads());
-    const std::size_t at_once = cfg.scan_steps_at_once > 0
-                                    ? static_cast<std::size_t>(cfg.scan_steps_at_once)
-                                    : steps_in_flight_for(s.population.size(), threads);
-    bool copies = true;  // whether the scanner offers copies (else one step at a time)
-    while (scanners.size() < std::min(at_once, threads)) {
-      std::unique_ptr<EncounterScanner> another = s.parts.scanner->another();
-      if (!another) {
-        copies = false;
-        break;
-      }
-      scanners.push_back(another.get());
-      more_scanners.push_back(std::move(another));
-    }
-    flight = std::make_unique<StepsInFlight>(std::move(scanners), copies ? at_once : 1);
-  }
+  if (s.parts.scanner)
+    flight =
+        std::make_unique<StepsInFlight>(*s.parts.scanner, static_cast<std::size_t>(cfg.scan_steps_at_once),
+                                        s.population.size(), static_cast<std::size_t>(omp_get_max_threads()));
   std::vector<std::vector<Encounter>> encounters;  // per step of the batch
   std::vector<BurnUp> burned;
 

@@ -5,15 +5,26 @@
 #include <algorithm>
 #include <exception>
 #include <stdexcept>
+#include <utility>
 
 #include "core/integration/team_timeline.hpp"
 
 namespace kessler {
 
-StepsInFlight::StepsInFlight(std::vector<EncounterScanner*> scanners, std::size_t capacity)
-    : scanners_(std::move(scanners)), capacity_(capacity) {
-  if (scanners_.empty()) throw std::invalid_argument("StepsInFlight: no scanner");
-  if (capacity_ == 0) throw std::invalid_argument("StepsInFlight: no room for a step");
+StepsInFlight::StepsInFlight(EncounterScanner& first, std::size_t at_once, std::size_t objects,
+                             std::size_t threads)
+    : scanners_{&first} {
+  const std::size_t wanted = at_once > 0 ? at_once : steps_in_flight_for(objects, threads);
+  bool copies = true;  // whether `first` offers copies (else one step at a time)
+  while (copies && scanners_.size() < std::min(wanted, threads)) {
+    std::unique_ptr<EncounterScanner> copy = first.another();
+    copies = copy != nullptr;
+    if (copies) {
+      scanners_.push_back(copy.get());
+      copies_.push_back(std::move(copy));
+    }
+  }
+  capacity_ = copies ? wanted : 1;
   starts_.resize(capacity_);
 }
 

@@ -16,6 +16,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/conjunctions/encounter.hpp"
@@ -48,12 +49,16 @@ inline std::size_t steps_in_flight_for(std::size_t objects, std::size_t threads)
 
 class StepsInFlight {
  public:
-  // Up to `capacity` steps at once, scanned by up to scanners.size() threads, each with a scanner of
-  // its own (the caller owns them). A batch of one step is scanned by scanners[0] on its own team,
-  // reading states in the propagator's chunks (StepEnds::chunks).
-  StepsInFlight(std::vector<EncounterScanner*> scanners, std::size_t capacity);
+  // Up to `at_once` steps at once (0: steps_in_flight_for(objects, threads)), scanned by up to `threads`
+  // threads, each with a scanner of its own: `first` (the caller's) and copies of it
+  // (EncounterScanner::another(), owned here). A scanner that offers no copies scans one step at a
+  // time. A batch of one step is scanned by `first` on its own team, reading states in the propagator's
+  // chunks (StepEnds::chunks).
+  StepsInFlight(EncounterScanner& first, std::size_t at_once, std::size_t objects, std::size_t threads);
 
   std::size_t capacity() const { return capacity_; }
+  // `first`, then its copies.
+  const std::vector<EncounterScanner*>& scanners() const { return scanners_; }
   std::size_t size() const { return steps_.size(); }
   bool full() const { return steps_.size() == capacity_; }
 
@@ -84,8 +89,9 @@ class StepsInFlight {
   // Step j's end states: the next step's start, and the population's own states for the last step.
   const StateArrays& end_of(std::size_t j, const Population& population) const;
 
+  std::vector<std::unique_ptr<EncounterScanner>> copies_;
   std::vector<EncounterScanner*> scanners_;
-  std::size_t capacity_;
+  std::size_t capacity_ = 1;
   // starts_[j]: the start states of the batch's step j. The last step's end is the population's states,
   // so a batch of B steps copies B boundaries, as many as one step at a time copies (its starts).
   std::vector<StateArrays> starts_;

@@ -95,18 +95,14 @@ int run(int argc, char** argv) {
   // ends at a step where objects burn up). Detection runs --repeats times on each batch (the first
   // one's events are kept); each repeat's time is summed over the batches and the median of the sums
   // reported. Memory stays O(N) for long runs.
-  const std::size_t at_once = at_once_wanted > 0
-                                  ? static_cast<std::size_t>(at_once_wanted)
-                                  : steps_in_flight_for(population.size(), static_cast<std::size_t>(threads));
-  std::vector<std::unique_ptr<EncounterScanner>> owned;
+  CountingScanner first(settings);
+  StepsInFlight flight(first, static_cast<std::size_t>(at_once_wanted), population.size(),
+                       static_cast<std::size_t>(threads));
+  // The scanners are `first` and its copies (CountingScanner::another()).
   std::vector<CountingScanner*> counting;
-  std::vector<EncounterScanner*> scanners;
-  for (std::size_t k = 0; k < std::min(at_once, static_cast<std::size_t>(threads)); ++k) {
-    owned.push_back(std::make_unique<CountingScanner>(settings));
-    counting.push_back(static_cast<CountingScanner*>(owned.back().get()));
-    scanners.push_back(owned.back().get());
-  }
-  StepsInFlight flight(scanners, at_once);
+  for (EncounterScanner* scanner : flight.scanners())
+    counting.push_back(static_cast<CountingScanner*>(scanner));
+  const std::size_t at_once = flight.capacity();
   std::vector<double> detect_walls(static_cast<std::size_t>(repeats), 0.0), detect_cpu = detect_walls;
   double propagate_s = 0.0;
   std::size_t collisions = 0, evasions = 0, burn_ups = 0;
