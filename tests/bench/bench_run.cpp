@@ -162,6 +162,8 @@ class CpuTimedPropagator final : public Propagator {
   std::unique_ptr<Propagator> inner_;
 };
 
+// No copies (EncounterScanner::another()): the process's CPU time around scans side by side would
+// count each one twice, so with --cpu-times the loop scans one step at a time.
 class CpuTimedScanner final : public EncounterScanner {
  public:
   explicit CpuTimedScanner(std::unique_ptr<EncounterScanner> inner) : inner_(std::move(inner)) {}
