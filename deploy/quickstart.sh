@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # The README's first command, on a fresh Debian 12 (as root, or a user with sudo):
 #   installs the dependencies, builds (Release), starts kesslerd in the background on its SQLite
-#   database (var/kessler.db), submits the one-day paper scenario on the real 2022 catalog, streams it
-#   live, then prints the run's summary and how to query it and stop the daemon.
+#   database (var/kessler.db), submits a three-hour screening of the real 2022 catalog at 5 km (as
+#   CelesTrak's SOCRATES screens it), streams the conjunctions live, then prints the run's summary, how
+#   to query it, how to run the paper's scenario next and how to stop the daemon.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
 server=${KESSLER_SERVER:-127.0.0.1:50051}
-scenario=${1:-deploy/scenarios/paper-1day.yaml}
+scenario=${1:-deploy/scenarios/catalog-screening.yaml}
 
 echo "== 1/4 dependencies"
 deploy/install-deps.sh
@@ -46,6 +47,9 @@ Run $run is stored in var/kessler.db. Next:
   build/bin/kessler conjunctions $run --kappa-max 1 --closest-per-pair --server $server
   build/bin/kessler conjunctions $run --output csv --server $server > conjunctions.csv
   build/bin/kessler runs --server $server
+The paper's scenario next (the 2022 catalog with its filters, kappa_max 10; one day, then 20 years):
+  build/bin/kessler submit deploy/scenarios/paper-1day.yaml --watch --server $server
+  build/bin/kessler submit deploy/scenarios/paper.yaml --server $server
 Stop the daemon (running runs checkpoint and resume at the next start):
   kill \$(cat var/kesslerd.pid)
 EOT
