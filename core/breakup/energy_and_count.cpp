@@ -56,7 +56,7 @@ BreakupPlan plan_breakup(const BreakupEvent& event) {
     plan.expected_count = collision_cumulative_count(plan.size_law_mass_kg, plan.lc_min_m);
   }
   const double limit = static_cast<double>(event.max_fragments_per_event);
-  if (!(plan.expected_count <= limit))  // also catches NaN and infinity
+  if (!(std::floor(plan.expected_count) <= limit))  // also catches NaN and infinity
     throw BreakupInputError("max_fragments_per_event", "the event gives " +
                                                            std::to_string(plan.expected_count) +
                                                            " fragments at Lc_min, more than the limit " +

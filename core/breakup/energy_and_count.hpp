@@ -37,7 +37,7 @@ struct BreakupPlan {
 };
 
 // Validates the event (validate_breakup_event) and plans it. Throws BreakupInputError naming
-// "max_fragments_per_event" when the count exceeds that limit (or is not finite).
+// "max_fragments_per_event" when floor(N(>= Lc_min)) exceeds that limit (or is not finite).
 BreakupPlan plan_breakup(const BreakupEvent& event);
 
 }  // namespace kessler
