@@ -83,19 +83,36 @@ void draw_fragments(const BreakupEvent& event, const BreakupPlan& plan, Fragment
   }
 }
 
-void move_fragment(FragmentCloud& c, std::size_t from, std::size_t to) {
-  c.draw_index[to] = c.draw_index[from];
-  c.parent_index[to] = c.parent_index[from];
-  c.characteristic_length_m[to] = c.characteristic_length_m[from];
-  c.area_to_mass_m2_kg[to] = c.area_to_mass_m2_kg[from];
-  c.area_m2[to] = c.area_m2[from];
-  c.mass_kg[to] = c.mass_kg[from];
-  c.radius_m[to] = c.radius_m[from];
-  for (Vec3Arrays* v : {&c.delta_v_m_s, &c.velocity_m_s, &c.position_m}) {
-    v->x[to] = v->x[from];
-    v->y[to] = v->y[from];
-    v->z[to] = v->z[from];
+// Removes the entries at `drop` (ascending positions) from v, keeping the others' order.
+template <typename T>
+void erase_positions(std::vector<T>& v, const std::vector<std::size_t>& drop) {
+  auto out = v.begin() + static_cast<std::ptrdiff_t>(drop[0]);
+  for (std::size_t k = 0; k < drop.size(); ++k) {
+    const std::size_t end = k + 1 < drop.size() ? drop[k + 1] : v.size();
+    out = std::copy(v.begin() + static_cast<std::ptrdiff_t>(drop[k] + 1),
+                    v.begin() + static_cast<std::ptrdiff_t>(end), out);
   }
+  v.erase(out, v.end());
+}
+
+// The `k` heaviest fragments (heaviest first; on equal masses the lower position first).
+std::vector<std::pair<double, std::size_t>> heaviest(const std::vector<double>& mass, std::size_t k) {
+  auto heavier = [](const std::pair<double, std::size_t>& a, const std::pair<double, std::size_t>& b) {
+    return a.first > b.first || (a.first == b.first && a.second < b.second);
+  };
+  std::vector<std::pair<double, std::size_t>> top;  // a heap whose front is the lightest kept
+  top.reserve(k + 1);
+  for (std::size_t i = 0; i < mass.size(); ++i) {
+    if (top.size() == k && !heavier({mass[i], i}, top.front())) continue;
+    top.emplace_back(mass[i], i);
+    std::push_heap(top.begin(), top.end(), heavier);
+    if (top.size() > k) {
+      std::pop_heap(top.begin(), top.end(), heavier);
+      top.pop_back();
+    }
+  }
+  std::sort(top.begin(), top.end(), heavier);
+  return top;
 }
 
 // Mass conservation: when the drawn fragments weigh more than the parents, the heaviest are dropped
@@ -106,23 +123,24 @@ void keep_within_parent_mass(FragmentCloud& c) {
   double total = 0.0;
   for (double m : c.mass_kg) total += m;
   if (total <= c.parent_mass_kg) return;
-  std::vector<std::pair<double, std::uint64_t>> heap(c.size());
-  for (std::size_t i = 0; i < c.size(); ++i) heap[i] = {c.mass_kg[i], c.draw_index[i]};
-  std::make_heap(heap.begin(), heap.end());
-  std::vector<bool> dropped(c.size(), false);
-  while (total > c.parent_mass_kg && !heap.empty()) {
-    std::pop_heap(heap.begin(), heap.end());
-    total -= heap.back().first;
-    dropped[heap.back().second] = true;  // draw_index == position before any drop
-    heap.pop_back();
+  std::vector<std::size_t> drop;
+  for (std::size_t k = 8; drop.empty(); k *= 4) {  // look at the k heaviest; more if they do not suffice
+    double left = total;
+    for (const auto& [mass, i] : heaviest(c.mass_kg, k)) {
+      if (left <= c.parent_mass_kg) break;
+      left -= mass;
+      drop.push_back(i);
+    }
+    if (left > c.parent_mass_kg && drop.size() < c.size()) drop.clear();
   }
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < c.size(); ++i) {
-    if (dropped[i]) continue;
-    if (kept != i) move_fragment(c, i, kept);
-    ++kept;
-  }
-  resize(c, kept);
+  std::sort(drop.begin(), drop.end());
+  erase_positions(c.draw_index, drop);
+  erase_positions(c.parent_index, drop);
+  for (std::vector<double>* v :
+       {&c.characteristic_length_m, &c.area_to_mass_m2_kg, &c.area_m2, &c.mass_kg, &c.radius_m,
+        &c.delta_v_m_s.x, &c.delta_v_m_s.y, &c.delta_v_m_s.z, &c.velocity_m_s.x, &c.velocity_m_s.y,
+        &c.velocity_m_s.z, &c.position_m.x, &c.position_m.y, &c.position_m.z})
+    erase_positions(*v, drop);
 }
 
 // The target of a non-catastrophic collision survives. With mass conservation it takes the parents'
