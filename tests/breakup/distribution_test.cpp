@@ -74,9 +74,10 @@ TEST(BreakupDistribution, SpacecraftCollisionAreaToMassAndSpeed) {
 }
 
 TEST(BreakupDistribution, SpacecraftCollisionLargeFragments) {
-  // Above 11 cm the spacecraft law is bimodal; 24 events of 1,242 fragments give 4.5e3 above 30 cm.
-  BreakupEvent event = breakup_test::reference_collision(11700.0, 0.11, 0);
-  check_bands(pooled(event, 24), event, "spacecraft collision, Lc >= 11 cm");
+  // The 8-11 cm bridge and the bimodal law above it: 24 events of 1,820 fragments down to 8 cm give
+  // 1.8e4 in the bridge and 6e3 above 30 cm.
+  BreakupEvent event = breakup_test::reference_collision(11700.0, 0.08, 0);
+  check_bands(pooled(event, 24), event, "spacecraft collision, Lc >= 8 cm");
 }
 
 TEST(BreakupDistribution, RocketBodyExplosionAreaToMassAndSpeed) {
