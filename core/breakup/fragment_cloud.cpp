@@ -36,18 +36,25 @@ void draw_fragments(const BreakupEvent& event, const BreakupPlan& plan, Fragment
   const TruncatedPowerLaw law(plan.lc_min_m, plan.lc_max_m, plan.size_exponent);
   const SizeStrata strata(plan.count, random_bits(seed, id, RandomPurpose::kBreakupSize, ~0ULL));
   const bool collision = event.kind == BreakupKind::kCollision;
-  // Collisions: a fragment comes from parents[0] with probability m0 / (m0 + m1).
+  // Collisions: parents[0] takes the share w0 = m0 / (m0 + m1) of the strata, spread evenly over the
+  // sizes (a Sturmian sequence in stratum order with a random phase), so that each parent gets its mass
+  // share of the fragments at every size: the mass sits in the largest few, and independent choices
+  // would leave the momentum to chance among them.
   const double weight0 =
       collision ? event.parents[0].mass_kg / (event.parents[0].mass_kg + event.parents[1].mass_kg) : 1.0;
+  const double phase = random_uniform(seed, id, RandomPurpose::kBreakupParent, 0);
   const BreakupParent* parents = event.parents.data();
 #pragma omp parallel for schedule(static)
   for (std::int64_t s = 0; s < n; ++s) {
     const auto i = static_cast<std::uint64_t>(s);
-    const double u_size = strata.uniform(i, random_uniform(seed, id, RandomPurpose::kBreakupSize, i));
+    const std::uint64_t stratum = strata.stratum(i);
+    const double u_size = strata.uniform(stratum, random_uniform(seed, id, RandomPurpose::kBreakupSize, i));
     const double log_lc = law.log_size(u_size);
     const double lc = std::exp(log_lc);
     const double lambda = log_lc / kLn10;
-    const std::uint8_t p = random_uniform(seed, id, RandomPurpose::kBreakupParent, i) < weight0 ? 0 : 1;
+    const auto sd = static_cast<double>(stratum);
+    const std::uint8_t p =
+        std::floor((sd + 1.0) * weight0 + phase) > std::floor(sd * weight0 + phase) ? 0 : 1;
     const BreakupParent& parent = parents[p];
     // One Box-Muller pair: its cosine for A/m, its sine for the ejection speed (independent normals).
     const double r =

@@ -30,8 +30,12 @@ class TruncatedPowerLaw {
 class SizeStrata {
  public:
   SizeStrata(std::uint64_t n, std::uint64_t offset_bits);
-  double uniform(std::uint64_t i, double jitter) const {
-    const auto s = static_cast<std::uint64_t>((static_cast<unsigned __int128>(a_) * i + b_) % n_);
+  // Fragment i's stratum; stratum 0 holds the largest sizes.
+  std::uint64_t stratum(std::uint64_t i) const {
+    return static_cast<std::uint64_t>((static_cast<unsigned __int128>(a_) * i + b_) % n_);
+  }
+  // P(size >= L) of a fragment in stratum s.
+  double uniform(std::uint64_t s, double jitter) const {
     return (static_cast<double>(s) + jitter) / static_cast<double>(n_);
   }
 

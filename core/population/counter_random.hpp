@@ -13,8 +13,8 @@ enum class RandomPurpose : std::uint64_t {
   kSyntheticOrbit = 2,
   kSyntheticSize = 3,
   kSyntheticStatus = 4,
-  // Breakup fragments (core/breakup/): id is the event id, the counter the fragment's draw index times
-  // kBreakupDrawsPerFragment plus the draw's number within the fragment.
+  // Breakup fragments (core/breakup/): id is the event id; the counter is the fragment's draw index i
+  // (or 2i and 2i + 1 for a pair of draws). core/breakup/README.md lists them.
   kBreakupSize = 16,
   kBreakupParent = 17,
   kBreakupAreaToMassBranch = 18,
