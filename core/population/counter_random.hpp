@@ -13,6 +13,13 @@ enum class RandomPurpose : std::uint64_t {
   kSyntheticOrbit = 2,
   kSyntheticSize = 3,
   kSyntheticStatus = 4,
+  // Breakup fragments (core/breakup/): id is the event id; the counter is the fragment's draw index i
+  // (or 2i and 2i + 1 for a pair of draws). core/breakup/README.md lists them.
+  kBreakupSize = 16,
+  kBreakupParent = 17,
+  kBreakupAreaToMassBranch = 18,
+  kBreakupNormal = 19,
+  kBreakupDirection = 20,
 };
 
 // SplitMix64's finaliser (Steele, Lea & Flood 2014): a bijective 64-bit mix.
