@@ -198,8 +198,8 @@ std::string Simulation::checkpoint() const {
 
 // One call of run(): the loop's steps and what lives only as long as the call (clocks, phase timers,
 // the batch's buffers). The run goes on from s.step, a fresh run's 0 or a resumed run's checkpoint.
-struct Simulation::Session {
-  Session(State& state, EventSink& event_sink, RunControl& run_control);
+struct Simulation::RunLoop {
+  RunLoop(State& state, EventSink& event_sink, RunControl& run_control);
 
   // The loop: at each step boundary the controls and checkpoints, then one batch of steps propagated,
   // scanned and emitted; the summary last.
@@ -241,7 +241,7 @@ struct Simulation::Session {
   std::vector<BurnUp> burned;                      // on the batch's last step
 };
 
-Simulation::Session::Session(State& state, EventSink& event_sink, RunControl& run_control)
+Simulation::RunLoop::RunLoop(State& state, EventSink& event_sink, RunControl& run_control)
     : s(state),
       cfg(state.config),
       sink(event_sink),
@@ -263,7 +263,7 @@ Simulation::Session::Session(State& state, EventSink& event_sink, RunControl& ru
                                         s.population.size(), static_cast<std::size_t>(omp_get_max_threads()));
 }
 
-RunSummary Simulation::Session::run() {
+RunSummary Simulation::RunLoop::run() {
   try {
     for (;;) {
       const Boundary boundary = at_boundary();
@@ -284,7 +284,7 @@ RunSummary Simulation::Session::run() {
 }
 
 // Step boundary: controls, then checkpoints. kEnd: cancelled, stopped at a checkpoint, or all steps done.
-Simulation::Session::Boundary Simulation::Session::at_boundary() {
+Simulation::RunLoop::Boundary Simulation::RunLoop::at_boundary() {
   if (control.cancel.load()) {
     summary.cancelled = true;
     return Boundary::kEnd;
@@ -303,7 +303,7 @@ Simulation::Session::Boundary Simulation::Session::at_boundary() {
 // Asked for (checkpoint_now, which this clears, or stop_after_checkpoint), or periodic (every
 // checkpoint_every_steps steps or checkpoint_every_wall_s seconds) at a boundary inside the run that has
 // no checkpoint yet.
-bool Simulation::Session::checkpoint_due() {
+bool Simulation::RunLoop::checkpoint_due() {
   const bool fresh_boundary = s.step != s.last_checkpoint_step && s.step > 0 && s.step < s.total_steps;
   bool due = control.checkpoint_now.exchange(false) || control.stop_after_checkpoint.load();
   if (fresh_boundary && cfg.checkpoint_every_steps > 0 && s.step % cfg.checkpoint_every_steps == 0)
@@ -314,7 +314,7 @@ bool Simulation::Session::checkpoint_due() {
   return due;
 }
 
-void Simulation::Session::write_checkpoint() {
+void Simulation::RunLoop::write_checkpoint() {
   auto t0 = Clock::now();
   std::string bytes = encode_checkpoint(s.snapshot(wall_now()));
   sink.on_checkpoint(s.next_seq - 1, s.step, bytes);
@@ -326,7 +326,7 @@ void Simulation::Session::write_checkpoint() {
 // A batch: up to one step per scanner in flight, ending early at the next checkpoint step and at a step
 // where objects burn up (the population then changes: the next batch starts afresh). Each step is
 // integrated and its burn-ups found; returns the number of steps.
-std::size_t Simulation::Session::propagate_batch() {
+std::size_t Simulation::RunLoop::propagate_batch() {
   std::int64_t batch_end =
       std::min(s.total_steps, s.step + (flight ? static_cast<std::int64_t>(flight->capacity()) : 1));
   if (cfg.checkpoint_every_steps > 0)
@@ -362,7 +362,7 @@ std::size_t Simulation::Session::propagate_batch() {
 }
 
 // Detection: every step of the batch scanned, into encounters[j] for step j.
-void Simulation::Session::scan_batch(std::size_t steps) {
+void Simulation::RunLoop::scan_batch(std::size_t steps) {
   Population& pop = s.population;
   for (std::vector<Encounter>& step_encounters : encounters) step_encounters.clear();
   encounters.resize(std::max(encounters.size(), steps));
@@ -378,7 +378,7 @@ void Simulation::Session::scan_batch(std::size_t steps) {
 
 // Events, step by step, in sequence order: encounters (canonical), burn-ups (by id, on the batch's last
 // step, whose objects then leave the population), progress.
-void Simulation::Session::emit_batch(std::size_t steps) {
+void Simulation::RunLoop::emit_batch(std::size_t steps) {
   auto t = Clock::now();
   for (std::size_t j = 0; j < steps; ++j) {
     const double t1_s = static_cast<double>(s.step + 1) * cfg.dt_s;
@@ -393,7 +393,7 @@ void Simulation::Session::emit_batch(std::size_t steps) {
   timers.output_s += seconds_since(t);
 }
 
-void Simulation::Session::emit_encounters(const std::vector<Encounter>& step_encounters) {
+void Simulation::RunLoop::emit_encounters(const std::vector<Encounter>& step_encounters) {
   for (const Encounter& e : step_encounters) {
     const std::uint64_t seq = s.next_seq++;
     hash_encounter(s.events_hash, seq, e);
@@ -408,7 +408,7 @@ void Simulation::Session::emit_encounters(const std::vector<Encounter>& step_enc
   }
 }
 
-void Simulation::Session::emit_burn_ups() {
+void Simulation::RunLoop::emit_burn_ups() {
   for (const BurnUp& b : burned) {
     const std::uint64_t seq = s.next_seq++;
     hash_burn_up(s.events_hash, seq, b);
@@ -418,12 +418,12 @@ void Simulation::Session::emit_burn_ups() {
   }
 }
 
-void Simulation::Session::remove_burn_ups() {
+void Simulation::RunLoop::remove_burn_ups() {
   if (!burned.empty()) s.population.remove_flagged(flags);
 }
 
 // Progress after step s.step, ending at t1_s.
-void Simulation::Session::emit_progress(double t1_s) {
+void Simulation::RunLoop::emit_progress(double t1_s) {
   Progress p;
   p.step = s.step;
   p.total_steps = s.total_steps;
@@ -441,7 +441,7 @@ void Simulation::Session::emit_progress(double t1_s) {
 }
 
 // The summary, handed to the sink unless the run stopped at a checkpoint (it goes on later).
-RunSummary Simulation::Session::finish() {
+RunSummary Simulation::RunLoop::finish() {
   timers.total_s = seconds_since(run_start);
   summary.steps = s.step;
   summary.sim_time_s = static_cast<double>(s.step) * cfg.dt_s;
@@ -456,7 +456,7 @@ RunSummary Simulation::Session::finish() {
 
 RunSummary Simulation::run(EventSink& sink, RunControl& control) {
   if (state_->config.threads > 0) omp_set_num_threads(state_->config.threads);
-  return Session(*state_, sink, control).run();
+  return RunLoop(*state_, sink, control).run();
 }
 
 }  // namespace kessler
