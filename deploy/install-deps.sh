@@ -9,7 +9,7 @@ packages=(
   libsqlite3-dev sqlite3
   libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  clang-format zlib1g-dev
+  clang-format zlib1g-dev libssl-dev
 )
 
 missing=()

@@ -3,7 +3,13 @@
 #include <malloc.h>
 
 #include <chrono>
+#include <stdexcept>
+#include <string>
 #include <thread>
+#include <type_traits>
+
+#include <google/protobuf/descriptor.h>
+#include <google/protobuf/message.h>
 
 #include "core/scenario/run_builder.hpp"
 #include "server/event_relay.hpp"
@@ -86,19 +92,27 @@ v1::Progress to_proto(const Progress& p) {
   return out;
 }
 
+// Field by field as for_each_field names them, so a field added to Encounter needs only its proto field
+// of the same name (and, for a new type, a branch below).
 v1::Encounter to_proto(const Encounter& e) {
   v1::Encounter out;
-  out.set_id1(e.id1);
-  out.set_id2(e.id2);
-  out.set_tca_s(e.tca_s);
-  out.set_miss_distance_m(e.miss_distance_m);
-  out.set_relative_speed_m_s(e.relative_speed_m_s);
-  out.set_kappa(e.kappa);
-  out.set_kind(static_cast<v1::EncounterKind>(e.kind));
-  set_vector(out.mutable_r1_m(), e.r1_m);
-  set_vector(out.mutable_v1_m_s(), e.v1_m_s);
-  set_vector(out.mutable_r2_m(), e.r2_m);
-  set_vector(out.mutable_v2_m_s(), e.v2_m_s);
+  const google::protobuf::Descriptor* message = out.GetDescriptor();
+  const google::protobuf::Reflection* reflection = out.GetReflection();
+  for_each_field(e, [&](const char* name, const auto& value) {
+    const google::protobuf::FieldDescriptor* field = message->FindFieldByName(name);
+    if (!field) throw std::logic_error(std::string("kessler.v1.Encounter has no field ") + name);
+    using T = std::remove_cvref_t<decltype(value)>;
+    if constexpr (std::is_same_v<T, std::uint64_t>)
+      reflection->SetUInt64(&out, field, value);
+    else if constexpr (std::is_same_v<T, double>)
+      reflection->SetDouble(&out, field, value);
+    else if constexpr (std::is_same_v<T, EncounterKind>)
+      reflection->SetEnumValue(&out, field, static_cast<int>(value));
+    else if constexpr (std::is_same_v<T, Eigen::Vector3d>)
+      set_vector(static_cast<v1::Vector3*>(reflection->MutableMessage(&out, field)), value);
+    else
+      static_assert(sizeof(T) == 0, "an Encounter field of a type the proto conversion does not know");
+  });
   return out;
 }
 

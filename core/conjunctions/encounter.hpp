@@ -2,7 +2,9 @@
 // what counts as one (the paper's section "Conjunction Tracking").
 #pragma once
 
+#include <concepts>
 #include <cstdint>
+#include <type_traits>
 
 #include <Eigen/Core>
 
@@ -43,6 +45,30 @@ struct Encounter {
   EncounterKind kind = EncounterKind::kConjunction;
   Eigen::Vector3d r1_m, v1_m_s, r2_m, v2_m_s;  // TEME of epoch at the time of closest approach
 };
+
+// Every field of an Encounter, once, in the order the events digest, the checkpoint and the service's
+// proto message visit them: f(name, member) per field, the name being the proto field's. A field added
+// here reaches all three (each visitor must then say how it writes the new field's type).
+template <class E, class F>  // E: Encounter or const Encounter
+requires std::same_as<std::remove_const_t<E>, Encounter>
+void for_each_field(E& e, F&& f) {
+  f("id1", e.id1);
+  f("id2", e.id2);
+  f("tca_s", e.tca_s);
+  f("miss_distance_m", e.miss_distance_m);
+  f("relative_speed_m_s", e.relative_speed_m_s);
+  f("kappa", e.kappa);
+  f("kind", e.kind);
+  f("r1_m", e.r1_m);
+  f("v1_m_s", e.v1_m_s);
+  f("r2_m", e.r2_m);
+  f("v2_m_s", e.v2_m_s);
+}
+
+// A member added to Encounter without a line in for_each_field would go missing from the digest, the
+// checkpoint and the service: this fails first.
+static_assert(sizeof(Encounter) == 2 * 8 + 4 * 8 + 8 + 4 * sizeof(Eigen::Vector3d),
+              "Encounter changed: list the new field in for_each_field");
 
 // Canonical order of encounters: time, then ids. Thread count never changes it.
 inline bool canonical_less(const Encounter& a, const Encounter& b) {

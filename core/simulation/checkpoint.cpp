@@ -107,34 +107,31 @@ class Reader {
   const char* end_;
 };
 
-void write_encounter(Writer& w, const Encounter& e) {
-  w.u64(e.id1);
-  w.u64(e.id2);
-  w.f64(e.tca_s);
-  w.f64(e.miss_distance_m);
-  w.f64(e.relative_speed_m_s);
-  w.f64(e.kappa);
-  w.u8(static_cast<std::uint8_t>(e.kind));
-  for (const auto* v : {&e.r1_m, &e.v1_m_s, &e.r2_m, &e.v2_m_s})
-    for (int k = 0; k < 3; ++k) w.f64((*v)[k]);
-}
+// An encounter's fields in for_each_field's order: the kind as one byte, everything else as in Writer.
+struct WriteField {
+  Writer& w;
+  void operator()(const char*, std::uint64_t v) const { w.u64(v); }
+  void operator()(const char*, double v) const { w.f64(v); }
+  void operator()(const char*, EncounterKind kind) const { w.u8(static_cast<std::uint8_t>(kind)); }
+  void operator()(const char*, const Eigen::Vector3d& v) const {
+    for (int k = 0; k < 3; ++k) w.f64(v[k]);
+  }
+};
 
-Encounter read_encounter(Reader& r) {
-  Encounter e;
-  const char* what = "closest-encounter table";
-  e.id1 = r.u64(what);
-  e.id2 = r.u64(what);
-  e.tca_s = r.f64(what);
-  e.miss_distance_m = r.f64(what);
-  e.relative_speed_m_s = r.f64(what);
-  e.kappa = r.f64(what);
-  std::uint8_t kind = r.u8(what);
-  if (kind > 2) throw std::runtime_error("checkpoint: unknown encounter kind in closest-encounter table");
-  e.kind = static_cast<EncounterKind>(kind);
-  for (auto* v : {&e.r1_m, &e.v1_m_s, &e.r2_m, &e.v2_m_s})
-    for (int k = 0; k < 3; ++k) (*v)[k] = r.f64(what);
-  return e;
-}
+struct ReadField {
+  Reader& r;
+  static constexpr const char* kWhat = "closest-encounter table";
+  void operator()(const char*, std::uint64_t& v) const { v = r.u64(kWhat); }
+  void operator()(const char*, double& v) const { v = r.f64(kWhat); }
+  void operator()(const char*, EncounterKind& kind) const {
+    const std::uint8_t v = r.u8(kWhat);
+    if (v > 2) throw std::runtime_error("checkpoint: unknown encounter kind in closest-encounter table");
+    kind = static_cast<EncounterKind>(v);
+  }
+  void operator()(const char*, Eigen::Vector3d& v) const {
+    for (int k = 0; k < 3; ++k) v[k] = r.f64(kWhat);
+  }
+};
 
 }  // namespace
 
@@ -145,11 +142,11 @@ std::string encode_checkpoint(const CheckpointState& s) {
   w.i64(s.total_steps);
   w.u64(s.next_seq);
   w.u64(s.seed);
-  for (auto v : {s.events, s.conjunctions, s.collisions, s.evasions, s.burn_ups, s.objects_initial}) w.u64(v);
+  for_each_counter(static_cast<const RunCounters&>(s), [&](const char*, std::uint64_t v) { w.u64(v); });
   w.f64(s.wall_s);
   w.str(s.events_digest_state);
   w.u64(s.closest_per_pair.size());
-  for (const auto& e : s.closest_per_pair) write_encounter(w, e);
+  for (const auto& e : s.closest_per_pair) for_each_field(e, WriteField{w});
   const Population& p = s.population;
   w.u64(p.size());
   for (auto id : p.id) w.u64(id);
@@ -198,14 +195,14 @@ CheckpointState decode_checkpoint(const std::string& bytes) {
   s.total_steps = r.i64("total steps");
   s.next_seq = r.u64("sequence");
   s.seed = r.u64("seed");
-  for (auto* v : {&s.events, &s.conjunctions, &s.collisions, &s.evasions, &s.burn_ups, &s.objects_initial})
-    *v = r.u64("counters");
+  for_each_counter(static_cast<RunCounters&>(s),
+                   [&](const char*, std::uint64_t& v) { v = r.u64("counters"); });
   s.wall_s = r.f64("wall time");
   s.events_digest_state = r.str("events digest");
   std::uint64_t pairs = r.u64("closest-encounter table");
   if (pairs > kMaxObjects) throw std::runtime_error("checkpoint: implausible closest-encounter table size");
   s.closest_per_pair.reserve(pairs);
-  for (std::uint64_t i = 0; i < pairs; ++i) s.closest_per_pair.push_back(read_encounter(r));
+  for (std::uint64_t i = 0; i < pairs; ++i) for_each_field(s.closest_per_pair.emplace_back(), ReadField{r});
   std::uint64_t n = r.u64("population size");
   if (n > kMaxObjects) throw std::runtime_error("checkpoint: implausible population size");
   Population& p = s.population;

@@ -9,18 +9,18 @@
 
 #include "core/conjunctions/encounter.hpp"
 #include "core/population/population.hpp"
+#include "core/simulation/events.hpp"
 
 namespace kessler {
 
-struct CheckpointState {
+// The run's counters are a base: encoded in for_each_counter's order after the seed.
+struct CheckpointState : RunCounters {
   std::string config_key;  // hex digest of the result-shaping configuration (refuses another scenario)
   std::int64_t step = 0;   // steps completed
   std::int64_t total_steps = 0;
   std::uint64_t next_seq = 1;
   std::uint64_t seed = 0;  // random draws are keyed by (seed, object id, purpose): no other RNG state
-  std::uint64_t events = 0, conjunctions = 0, collisions = 0, evasions = 0, burn_ups = 0;
-  std::uint64_t objects_initial = 0;
-  double wall_s = 0.0;                      // wall time spent before this checkpoint (progress and ETA only)
+  double wall_s = 0.0;     // wall time spent before this checkpoint (progress and ETA only)
   std::string events_digest_state;          // Sha256 running state over every event so far
   std::vector<Encounter> closest_per_pair;  // the closest encounter of every pair so far (canonical order)
   Population population;

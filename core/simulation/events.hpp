@@ -6,8 +6,10 @@
 // the same contents, so a consumer can store idempotently by sequence number.
 #pragma once
 
+#include <concepts>
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "core/conjunctions/encounter.hpp"
@@ -37,15 +39,32 @@ struct PhaseTimers {
   double total_s = 0.0;
 };
 
-struct RunSummary {
-  std::int64_t steps = 0;
-  double sim_time_s = 0.0;
-  std::uint64_t events = 0;  // encounters (all kinds) + burn-ups
-  std::uint64_t conjunctions = 0;
+// What a run has counted so far: kept by the loop, carried by a checkpoint, reported in the summary.
+struct RunCounters {
+  std::uint64_t events = 0;        // encounters (all kinds) + burn-ups
+  std::uint64_t conjunctions = 0;  // conjunctions and collisions (a collision is also a conjunction)
   std::uint64_t collisions = 0;
   std::uint64_t evasions = 0;
   std::uint64_t burn_ups = 0;
   std::uint64_t objects_initial = 0;
+};
+
+// Every counter, once, in the checkpoint's order: f(name, member).
+template <class C, class F>  // C: RunCounters or const RunCounters
+requires std::same_as<std::remove_const_t<C>, RunCounters>
+void for_each_counter(C& c, F&& f) {
+  f("events", c.events);
+  f("conjunctions", c.conjunctions);
+  f("collisions", c.collisions);
+  f("evasions", c.evasions);
+  f("burn_ups", c.burn_ups);
+  f("objects_initial", c.objects_initial);
+}
+
+// The counters are a base, so hosts read summary.events directly.
+struct RunSummary : RunCounters {
+  std::int64_t steps = 0;
+  double sim_time_s = 0.0;
   std::uint64_t objects_final = 0;
   std::string events_digest;  // hex hash over every event in sequence order, bit for bit
   std::string state_digest;   // hex hash over the final ids and states, bit for bit

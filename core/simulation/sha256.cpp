@@ -1,23 +1,15 @@
+// The SHA256_* functions are deprecated in OpenSSL 3 in favour of EVP, which has no way to save and
+// restore a running digest (sha256.hpp); they remain in every OpenSSL 3 release.
+#define OPENSSL_SUPPRESS_DEPRECATED
+
 #include "core/simulation/sha256.hpp"
 
+#include <algorithm>
 #include <cstring>
+#include <stdexcept>
 
 namespace kessler {
 namespace {
-
-constexpr std::uint32_t kRound[64] = {
-    0x428a2f98, 0x71374491, 0xb5c0fbcf, 0xe9b5dba5, 0x3956c25b, 0x59f111f1, 0x923f82a4, 0xab1c5ed5,
-    0xd807aa98, 0x12835b01, 0x243185be, 0x550c7dc3, 0x72be5d74, 0x80deb1fe, 0x9bdc06a7, 0xc19bf174,
-    0xe49b69c1, 0xefbe4786, 0x0fc19dc6, 0x240ca1cc, 0x2de92c6f, 0x4a7484aa, 0x5cb0a9dc, 0x76f988da,
-    0x983e5152, 0xa831c66d, 0xb00327c8, 0xbf597fc7, 0xc6e00bf3, 0xd5a79147, 0x06ca6351, 0x14292967,
-    0x27b70a85, 0x2e1b2138, 0x4d2c6dfc, 0x53380d13, 0x650a7354, 0x766a0abb, 0x81c2c92e, 0x92722c85,
-    0xa2bfe8a1, 0xa81a664b, 0xc24b8b70, 0xc76c51a3, 0xd192e819, 0xd6990624, 0xf40e3585, 0x106aa070,
-    0x19a4c116, 0x1e376c08, 0x2748774c, 0x34b0bcb5, 0x391c0cb3, 0x4ed8aa4a, 0x5b9cca4f, 0x682e6ff3,
-    0x748f82ee, 0x78a5636f, 0x84c87814, 0x8cc70208, 0x90befffa, 0xa4506ceb, 0xbef9a3f7, 0xc67178f2};
-
-inline std::uint32_t rotr(std::uint32_t x, int n) {
-  return (x >> n) | (x << (32 - n));
-}
 
 void put_le(std::string& out, std::uint64_t v) {
   for (int i = 0; i < 8; ++i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
@@ -28,65 +20,27 @@ std::uint64_t get_le(const char* p) {
   return v;
 }
 
+void check(int ok, const char* what) {
+  if (ok != 1) throw std::runtime_error(std::string("sha256: OpenSSL's ") + what + " failed");
+}
+
 }  // namespace
 
 void Sha256::reset() {
-  h_ = {0x6a09e667, 0xbb67ae85, 0x3c6ef372, 0xa54ff53a, 0x510e527f, 0x9b05688c, 0x1f83d9ab, 0x5be0cd19};
-  buffered_ = 0;
-  total_bytes_ = 0;
-}
-
-void Sha256::compress(const std::uint8_t* block) {
-  std::uint32_t w[64];
-  for (int i = 0; i < 16; ++i)
-    w[i] = (std::uint32_t(block[4 * i]) << 24) | (std::uint32_t(block[4 * i + 1]) << 16) |
-           (std::uint32_t(block[4 * i + 2]) << 8) | std::uint32_t(block[4 * i + 3]);
-  for (int i = 16; i < 64; ++i) {
-    std::uint32_t s0 = rotr(w[i - 15], 7) ^ rotr(w[i - 15], 18) ^ (w[i - 15] >> 3);
-    std::uint32_t s1 = rotr(w[i - 2], 17) ^ rotr(w[i - 2], 19) ^ (w[i - 2] >> 10);
-    w[i] = w[i - 16] + s0 + w[i - 7] + s1;
-  }
-  std::uint32_t a = h_[0], b = h_[1], c = h_[2], d = h_[3], e = h_[4], f = h_[5], g = h_[6], h = h_[7];
-  for (int i = 0; i < 64; ++i) {
-    std::uint32_t s1 = rotr(e, 6) ^ rotr(e, 11) ^ rotr(e, 25);
-    std::uint32_t ch = (e & f) ^ (~e & g);
-    std::uint32_t t1 = h + s1 + ch + kRound[i] + w[i];
-    std::uint32_t s0 = rotr(a, 2) ^ rotr(a, 13) ^ rotr(a, 22);
-    std::uint32_t maj = (a & b) ^ (a & c) ^ (b & c);
-    std::uint32_t t2 = s0 + maj;
-    h = g;
-    g = f;
-    f = e;
-    e = d + t1;
-    d = c;
-    c = b;
-    b = a;
-    a = t1 + t2;
-  }
-  h_[0] += a;
-  h_[1] += b;
-  h_[2] += c;
-  h_[3] += d;
-  h_[4] += e;
-  h_[5] += f;
-  h_[6] += g;
-  h_[7] += h;
+  check(SHA256_Init(&ctx_), "SHA256_Init");
+  block_.fill(0);
 }
 
 void Sha256::update(const void* data, std::size_t size) {
-  const auto* p = static_cast<const std::uint8_t*>(data);
-  total_bytes_ += size;
-  while (size > 0) {
-    std::size_t take = std::min<std::size_t>(64 - buffered_, size);
-    std::memcpy(buffer_.data() + buffered_, p, take);
-    buffered_ += take;
-    p += take;
-    size -= take;
-    if (buffered_ == 64) {
-      compress(buffer_.data());
-      buffered_ = 0;
-    }
-  }
+  if (size == 0) return;
+  // Only the last 64 bytes can stay in block_; ctx_.num is where the first byte of `data` falls.
+  const std::size_t keep = std::min<std::size_t>(size, 64);
+  const auto* tail = static_cast<const std::uint8_t*>(data) + (size - keep);
+  const std::size_t at = (ctx_.num + (size - keep)) % 64;
+  const std::size_t first = std::min(keep, 64 - at);
+  std::memcpy(block_.data() + at, tail, first);
+  std::memcpy(block_.data(), tail + first, keep - first);
+  check(SHA256_Update(&ctx_, data, size), "SHA256_Update");
 }
 
 void Sha256::update_u64(std::uint64_t value) {
@@ -102,17 +56,9 @@ void Sha256::update_f64(double value) {
 }
 
 std::array<std::uint8_t, 32> Sha256::digest() const {
-  Sha256 copy = *this;
-  std::uint64_t bit_length = total_bytes_ * 8;
-  std::uint8_t pad[72] = {0x80};
-  std::size_t pad_size = (copy.buffered_ < 56) ? 56 - copy.buffered_ : 120 - copy.buffered_;
-  copy.update(pad, pad_size);
-  std::uint8_t length[8];
-  for (int i = 0; i < 8; ++i) length[i] = static_cast<std::uint8_t>(bit_length >> (56 - 8 * i));
-  copy.update(length, 8);
+  SHA256_CTX copy = ctx_;
   std::array<std::uint8_t, 32> out{};
-  for (int i = 0; i < 8; ++i)
-    for (int j = 0; j < 4; ++j) out[4 * i + j] = static_cast<std::uint8_t>(copy.h_[i] >> (24 - 8 * j));
+  check(SHA256_Final(out.data(), &copy), "SHA256_Final");
   return out;
 }
 
@@ -121,16 +67,19 @@ std::string Sha256::hex_digest() const {
   return to_hex(d.data(), d.size());
 }
 
+// OpenSSL keeps the length in bits (Nh:Nl) and the buffered bytes count in `num`.
 std::string Sha256::save_state() const {
   std::string out;
-  for (auto word : h_) put_le(out, word);
-  put_le(out, buffered_);
-  out.append(reinterpret_cast<const char*>(buffer_.data()), buffer_.size());
-  put_le(out, total_bytes_);
+  for (auto word : ctx_.h) put_le(out, word);
+  put_le(out, ctx_.num);
+  out.append(reinterpret_cast<const char*>(block_.data()), block_.size());
+  const std::uint64_t bits = (static_cast<std::uint64_t>(ctx_.Nh) << 32) | ctx_.Nl;
+  put_le(out, bits / 8);
   return out;
 }
 
 bool Sha256::restore_state(std::string_view bytes) {
+  static_assert(sizeof(SHA256_CTX::data) == 64);
   if (bytes.size() != kStateBytes) return false;
   const char* p = bytes.data();
   std::array<std::uint32_t, 8> h{};
@@ -143,13 +92,17 @@ bool Sha256::restore_state(std::string_view bytes) {
   std::uint64_t buffered = get_le(p);
   p += 8;
   if (buffered >= 64) return false;
-  std::memcpy(buffer_.data(), p, 64);
+  const char* block = p;
   p += 64;
   std::uint64_t total = get_le(p);
   if (total % 64 != buffered) return false;
-  h_ = h;
-  buffered_ = buffered;
-  total_bytes_ = total;
+  reset();
+  for (int i = 0; i < 8; ++i) ctx_.h[i] = h[i];
+  std::memcpy(block_.data(), block, 64);
+  std::memcpy(ctx_.data, block, buffered);
+  ctx_.num = static_cast<unsigned int>(buffered);
+  ctx_.Nl = static_cast<SHA_LONG>(total * 8);
+  ctx_.Nh = static_cast<SHA_LONG>((total * 8) >> 32);
   return true;
 }
 

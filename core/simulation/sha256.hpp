@@ -1,6 +1,8 @@
-// SHA-256 (FIPS 180-4), streaming, with its running state exposed so a checkpoint can carry a digest
-// that is still being computed and a resumed run finishes it with the same bits.
+// SHA-256, streaming, with its running state exposed so a checkpoint can carry a digest that is still
+// being computed and a resumed run finishes it with the same bits. OpenSSL computes it.
 #pragma once
+
+#include <openssl/sha.h>
 
 #include <array>
 #include <cstddef>
@@ -23,17 +25,21 @@ class Sha256 {
   std::array<std::uint8_t, 32> digest() const;
   std::string hex_digest() const;
 
-  // The running state as 144 bytes, and back (false when the bytes are not such a state).
+  // The running state as 144 bytes, and back (false when the bytes are not such a state). Layout, all
+  // u64 little-endian: the 8 chaining words, the bytes buffered, the 64-byte block buffer, bytes hashed.
   std::string save_state() const;
   bool restore_state(std::string_view bytes);
   static constexpr std::size_t kStateBytes = 8 * 8 + 8 + 64 + 8;
 
  private:
-  void compress(const std::uint8_t* block);
-  std::array<std::uint32_t, 8> h_{};
-  std::array<std::uint8_t, 64> buffer_{};
-  std::uint64_t buffered_ = 0;     // bytes in buffer_
-  std::uint64_t total_bytes_ = 0;  // bytes hashed so far
+  // OpenSSL's plain SHA-256 context rather than an EVP_MD_CTX: EVP keeps the running state out of
+  // reach, and a checkpoint must save it and a resumed run set it back. A plain struct, so copies are
+  // cheap and nothing is to be freed.
+  SHA256_CTX ctx_;
+  // The saved state's block buffer: every byte hashed at its offset in its block, so past the buffered
+  // bytes it holds the previous block's (the checkpoint format's bytes). OpenSSL clears its own buffer
+  // once a block is hashed.
+  std::array<std::uint8_t, 64> block_{};
 };
 
 std::string to_hex(const std::uint8_t* bytes, std::size_t size);

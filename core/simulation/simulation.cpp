@@ -58,18 +58,21 @@ std::int64_t progress_interval(const SimulationConfig& c, std::int64_t total) {
   return std::max<std::int64_t>(1, total / 200);
 }
 
+// An encounter's fields in for_each_field's order: integers and the kind as u64, doubles by their bits.
+struct DigestField {
+  Sha256& h;
+  void operator()(const char*, std::uint64_t v) const { h.update_u64(v); }
+  void operator()(const char*, double v) const { h.update_f64(v); }
+  void operator()(const char*, EncounterKind kind) const { h.update_u64(static_cast<std::uint64_t>(kind)); }
+  void operator()(const char*, const Eigen::Vector3d& v) const {
+    for (int k = 0; k < 3; ++k) h.update_f64(v[k]);
+  }
+};
+
 void hash_encounter(Sha256& h, std::uint64_t seq, const Encounter& e) {
   h.update_u64(kTagEncounter);
   h.update_u64(seq);
-  h.update_u64(e.id1);
-  h.update_u64(e.id2);
-  h.update_f64(e.tca_s);
-  h.update_f64(e.miss_distance_m);
-  h.update_f64(e.relative_speed_m_s);
-  h.update_f64(e.kappa);
-  h.update_u64(static_cast<std::uint64_t>(e.kind));
-  for (const auto* v : {&e.r1_m, &e.v1_m_s, &e.r2_m, &e.v2_m_s})
-    for (int k = 0; k < 3; ++k) h.update_f64((*v)[k]);
+  for_each_field(e, DigestField{h});
 }
 
 void hash_burn_up(Sha256& h, std::uint64_t seq, const BurnUp& b) {
@@ -118,8 +121,7 @@ struct Simulation::State {
   std::int64_t step = 0;
   std::int64_t total_steps = 0;
   std::uint64_t next_seq = 1;
-  std::uint64_t events = 0, conjunctions = 0, collisions = 0, evasions = 0, burn_ups = 0;
-  std::uint64_t objects_initial = 0;
+  RunCounters counters;
   double wall_before_s = 0.0;  // wall time of earlier sessions (resumed runs)
   Sha256 events_hash;
   ClosestEncounterTable closest;
@@ -132,12 +134,7 @@ struct Simulation::State {
     c.total_steps = total_steps;
     c.next_seq = next_seq;
     c.seed = config.seed;
-    c.events = events;
-    c.conjunctions = conjunctions;
-    c.collisions = collisions;
-    c.evasions = evasions;
-    c.burn_ups = burn_ups;
-    c.objects_initial = objects_initial;
+    static_cast<RunCounters&>(c) = counters;
     c.wall_s = wall_s;
     c.events_digest_state = events_hash.save_state();
     c.closest_per_pair = closest.entries();
@@ -154,7 +151,7 @@ Simulation::Simulation(const SimulationConfig& config, Population population, Si
   state_->parts = std::move(parts);
   state_->population = std::move(population);
   state_->total_steps = total_steps_of(config);
-  state_->objects_initial = state_->population.size();
+  state_->counters.objects_initial = state_->population.size();
 }
 
 std::unique_ptr<Simulation> Simulation::resume(const SimulationConfig& config, const std::string& checkpoint,
@@ -170,12 +167,7 @@ std::unique_ptr<Simulation> Simulation::resume(const SimulationConfig& config, c
   State& s = *sim->state_;
   s.step = c.step;
   s.next_seq = c.next_seq;
-  s.events = c.events;
-  s.conjunctions = c.conjunctions;
-  s.collisions = c.collisions;
-  s.evasions = c.evasions;
-  s.burn_ups = c.burn_ups;
-  s.objects_initial = c.objects_initial;
+  s.counters = static_cast<const RunCounters&>(c);
   s.wall_before_s = c.wall_s;
   if (!s.events_hash.restore_state(c.events_digest_state))
     throw std::runtime_error("checkpoint: events digest state is malformed");
@@ -204,192 +196,267 @@ std::string Simulation::checkpoint() const {
   return encode_checkpoint(state_->snapshot(state_->wall_before_s));
 }
 
-RunSummary Simulation::run(EventSink& sink, RunControl& control) {
-  State& s = *state_;
-  const SimulationConfig& cfg = s.config;
-  if (cfg.threads > 0) omp_set_num_threads(cfg.threads);
+// One call of run(): the loop's steps and what lives only as long as the call (clocks, phase timers,
+// the batch's buffers). The run goes on from s.step, a fresh run's 0 or a resumed run's checkpoint.
+struct Simulation::RunLoop {
+  RunLoop(State& state, EventSink& event_sink, RunControl& run_control);
 
-  const auto run_start = Clock::now();
-  auto last_checkpoint_wall = run_start;
-  const std::int64_t first_step = s.step;
-  const std::int64_t progress_every = progress_interval(cfg, s.total_steps);
+  // The loop: at each step boundary the controls and checkpoints, then one batch of steps propagated,
+  // scanned and emitted; the summary last.
+  RunSummary run();
+
+  enum class Boundary { kGo, kPaused, kEnd };
+  Boundary at_boundary();
+  bool checkpoint_due();
+  void write_checkpoint();
+  std::size_t propagate_batch();
+  void scan_batch(std::size_t steps);
+  void emit_batch(std::size_t steps);
+  void emit_encounters(const std::vector<Encounter>& step_encounters);
+  void emit_burn_ups();
+  void remove_burn_ups();
+  void emit_progress(double t1_s);
+  RunSummary finish();
+
+  double wall_now() const { return s.wall_before_s + seconds_since(run_start); }
+
+  State& s;
+  const SimulationConfig& cfg;
+  EventSink& sink;
+  RunControl& control;
+  const Clock::time_point run_start;
+  Clock::time_point last_checkpoint_wall;
+  const std::int64_t first_step;
+  const std::int64_t progress_every;
   PhaseTimers timers;
   RunSummary summary;
-
-  auto wall_now = [&] { return s.wall_before_s + seconds_since(run_start); };
-
-  auto write_checkpoint = [&] {
-    auto t0 = Clock::now();
-    std::string bytes = encode_checkpoint(s.snapshot(wall_now()));
-    sink.on_checkpoint(s.next_seq - 1, s.step, bytes);
-    s.last_checkpoint_step = s.step;
-    last_checkpoint_wall = Clock::now();
-    timers.checkpoint_s += seconds_since(t0);
-  };
 
   std::vector<char> flags;
   // What each step asks of the propagator besides the steps in flight's copies: the burn-up flags in
   // the same pass, unless a finder is given.
-  const bool flag_in_step = s.parts.burn_up && !s.parts.find_burn_ups;
+  const bool flag_in_step;
   StepRequest request;
+  std::unique_ptr<StepsInFlight> flight;
+  std::vector<std::vector<Encounter>> encounters;  // per step of the batch
+  std::vector<BurnUp> burned;                      // on the batch's last step
+};
+
+Simulation::RunLoop::RunLoop(State& state, EventSink& event_sink, RunControl& run_control)
+    : s(state),
+      cfg(state.config),
+      sink(event_sink),
+      control(run_control),
+      run_start(Clock::now()),
+      last_checkpoint_wall(run_start),
+      first_step(state.step),
+      progress_every(progress_interval(state.config, state.total_steps)),
+      flag_in_step(state.parts.burn_up && !state.parts.find_burn_ups) {
   if (flag_in_step) {
     request.burn_up_flags = &flags;
     request.burn_up_radius2 = burn_up_radius2(cfg.burn_up_altitude_m);
   }
   // Steps scanned side by side (steps_in_flight.hpp): one per thread, with scanners of their own, where
   // the scanner offers copies; else one at a time.
-  std::unique_ptr<StepsInFlight> flight;
   if (s.parts.scanner)
     flight =
         std::make_unique<StepsInFlight>(*s.parts.scanner, static_cast<std::size_t>(cfg.scan_steps_at_once),
                                         s.population.size(), static_cast<std::size_t>(omp_get_max_threads()));
-  std::vector<std::vector<Encounter>> encounters;  // per step of the batch
-  std::vector<BurnUp> burned;
+}
 
+RunSummary Simulation::RunLoop::run() {
   try {
     for (;;) {
-      // Step boundary: controls, then checkpoints.
-      if (control.cancel.load()) {
-        summary.cancelled = true;
-        break;
-      }
-      const bool fresh_boundary = s.step != s.last_checkpoint_step && s.step > 0 && s.step < s.total_steps;
-      bool due = control.checkpoint_now.exchange(false) || control.stop_after_checkpoint.load();
-      if (fresh_boundary && cfg.checkpoint_every_steps > 0 && s.step % cfg.checkpoint_every_steps == 0)
-        due = true;
-      if (fresh_boundary && cfg.checkpoint_every_wall_s > 0 &&
-          seconds_since(last_checkpoint_wall) >= cfg.checkpoint_every_wall_s)
-        due = true;
-      if (due && s.step < s.total_steps) write_checkpoint();
-      if (control.stop_after_checkpoint.load() && s.step < s.total_steps) {
-        summary.cancelled = true;
-        summary.stopped_at_checkpoint = true;
-        break;
-      }
-      if (control.pause.load()) {
+      const Boundary boundary = at_boundary();
+      if (boundary == Boundary::kEnd) break;
+      if (boundary == Boundary::kPaused) {
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
         continue;
       }
-      if (s.step >= s.total_steps) break;
-
-      // A batch: up to one step per scanner in flight, ending early at the next checkpoint step and at a
-      // step where objects burn up (the population then changes: the next batch starts afresh).
-      std::int64_t batch_end =
-          std::min(s.total_steps, s.step + (flight ? static_cast<std::int64_t>(flight->capacity()) : 1));
-      if (cfg.checkpoint_every_steps > 0)
-        batch_end =
-            std::min(batch_end, (s.step / cfg.checkpoint_every_steps + 1) * cfg.checkpoint_every_steps);
-      Population& pop = s.population;
-      const std::int64_t batch_start = s.step;
-      std::int64_t next = batch_start;
-      burned.clear();
-      while (next < batch_end && burned.empty()) {
-        const double t0_s = static_cast<double>(next) * cfg.dt_s;
-        const double t1_s = t0_s + cfg.dt_s;
-        // Integrate.
-        auto t = Clock::now();
-        if (flight) {
-          s.parts.propagator->step_with(pop, t0_s, cfg.dt_s,
-                                        flight->request_for_next(request, next + 1 == batch_end));
-          flight->push(t0_s, cfg.dt_s, s.parts.propagator->last_chunks());
-        } else {
-          s.parts.propagator->step_with(pop, t0_s, cfg.dt_s, request);
-        }
-        timers.integrator_s += seconds_since(t);
-        // Burn-up: found now, removed after detection (the steps' ends stay index-aligned for the scans).
-        t = Clock::now();
-        if (s.parts.burn_up) {
-          burned = flag_in_step ? flagged_burn_ups(pop, t1_s, flags)
-                                : s.parts.find_burn_ups(pop, cfg.burn_up_altitude_m, t1_s, flags);
-          std::sort(burned.begin(), burned.end(),
-                    [](const BurnUp& a, const BurnUp& b) { return a.id < b.id; });
-        }
-        timers.burn_up_s += seconds_since(t);
-        ++next;
-      }
-      const std::size_t steps = static_cast<std::size_t>(next - batch_start);
-
-      // Detection.
-      for (std::vector<Encounter>& step_encounters : encounters) step_encounters.clear();
-      encounters.resize(std::max(encounters.size(), steps));
-      if (flight) {
-        if (pop.size() > 1) {
-          flight->scan(pop, encounters);
-          timers.grid_s += flight->last_grid_s();
-          timers.detection_s += flight->last_scan_s() - flight->last_grid_s();
-        }
-        flight->restart();
-      }
-
-      // Events, step by step, in sequence order: encounters (canonical), burn-ups (by id, on the batch's
-      // last step), progress.
-      auto t = Clock::now();
-      for (std::size_t j = 0; j < steps; ++j) {
-        const double t1_s = static_cast<double>(s.step + 1) * cfg.dt_s;
-        for (const Encounter& e : encounters[j]) {
-          const std::uint64_t seq = s.next_seq++;
-          hash_encounter(s.events_hash, seq, e);
-          ++s.events;
-          if (e.kind == EncounterKind::kEvasion)
-            ++s.evasions;
-          else
-            ++s.conjunctions;
-          if (e.kind == EncounterKind::kCollision) ++s.collisions;
-          s.closest.update(e);
-          sink.on_encounter(seq, e);
-        }
-        if (j + 1 == steps) {
-          for (const BurnUp& b : burned) {
-            const std::uint64_t seq = s.next_seq++;
-            hash_burn_up(s.events_hash, seq, b);
-            ++s.events;
-            ++s.burn_ups;
-            sink.on_burn_up(seq, b);
-          }
-          if (!burned.empty()) pop.remove_flagged(flags);
-        }
-        ++s.step;
-
-        if (s.step % progress_every == 0 || s.step == s.total_steps) {
-          Progress p;
-          p.step = s.step;
-          p.total_steps = s.total_steps;
-          p.sim_time_s = t1_s;
-          p.objects_alive = pop.size();
-          p.events_so_far = s.events;
-          p.wall_s = wall_now();
-          const double session_wall = seconds_since(run_start);
-          const std::int64_t done = s.step - first_step;
-          p.eta_s = done > 0 ? session_wall / static_cast<double>(done) *
-                                   static_cast<double>(s.total_steps - s.step)
-                             : 0.0;
-          const std::uint64_t seq = s.next_seq++;
-          hash_progress(s.events_hash, seq, p);
-          sink.on_progress(seq, p);
-        }
-      }
-      timers.output_s += seconds_since(t);
+      const std::size_t steps = propagate_batch();
+      scan_batch(steps);
+      emit_batch(steps);
     }
   } catch (const std::exception& e) {
     sink.on_failed(e.what());
     throw;
   }
+  return finish();
+}
 
+// Step boundary: controls, then checkpoints. kEnd: cancelled, stopped at a checkpoint, or all steps done.
+Simulation::RunLoop::Boundary Simulation::RunLoop::at_boundary() {
+  if (control.cancel.load()) {
+    summary.cancelled = true;
+    return Boundary::kEnd;
+  }
+  if (checkpoint_due() && s.step < s.total_steps) write_checkpoint();
+  if (control.stop_after_checkpoint.load() && s.step < s.total_steps) {
+    summary.cancelled = true;
+    summary.stopped_at_checkpoint = true;
+    return Boundary::kEnd;
+  }
+  if (control.pause.load()) return Boundary::kPaused;
+  if (s.step >= s.total_steps) return Boundary::kEnd;
+  return Boundary::kGo;
+}
+
+// Asked for (checkpoint_now, which this clears, or stop_after_checkpoint), or periodic (every
+// checkpoint_every_steps steps or checkpoint_every_wall_s seconds) at a boundary inside the run that has
+// no checkpoint yet.
+bool Simulation::RunLoop::checkpoint_due() {
+  const bool fresh_boundary = s.step != s.last_checkpoint_step && s.step > 0 && s.step < s.total_steps;
+  bool due = control.checkpoint_now.exchange(false) || control.stop_after_checkpoint.load();
+  if (fresh_boundary && cfg.checkpoint_every_steps > 0 && s.step % cfg.checkpoint_every_steps == 0)
+    due = true;
+  if (fresh_boundary && cfg.checkpoint_every_wall_s > 0 &&
+      seconds_since(last_checkpoint_wall) >= cfg.checkpoint_every_wall_s)
+    due = true;
+  return due;
+}
+
+void Simulation::RunLoop::write_checkpoint() {
+  auto t0 = Clock::now();
+  std::string bytes = encode_checkpoint(s.snapshot(wall_now()));
+  sink.on_checkpoint(s.next_seq - 1, s.step, bytes);
+  s.last_checkpoint_step = s.step;
+  last_checkpoint_wall = Clock::now();
+  timers.checkpoint_s += seconds_since(t0);
+}
+
+// A batch: up to one step per scanner in flight, ending early at the next checkpoint step and at a step
+// where objects burn up (the population then changes: the next batch starts afresh). Each step is
+// integrated and its burn-ups found; returns the number of steps.
+std::size_t Simulation::RunLoop::propagate_batch() {
+  std::int64_t batch_end =
+      std::min(s.total_steps, s.step + (flight ? static_cast<std::int64_t>(flight->capacity()) : 1));
+  if (cfg.checkpoint_every_steps > 0)
+    batch_end = std::min(batch_end, (s.step / cfg.checkpoint_every_steps + 1) * cfg.checkpoint_every_steps);
+  Population& pop = s.population;
+  const std::int64_t batch_start = s.step;
+  std::int64_t next = batch_start;
+  burned.clear();
+  while (next < batch_end && burned.empty()) {
+    const double t0_s = static_cast<double>(next) * cfg.dt_s;
+    const double t1_s = t0_s + cfg.dt_s;
+    // Integrate.
+    auto t = Clock::now();
+    if (flight) {
+      s.parts.propagator->step_with(pop, t0_s, cfg.dt_s,
+                                    flight->request_for_next(request, next + 1 == batch_end));
+      flight->push(t0_s, cfg.dt_s, s.parts.propagator->last_chunks());
+    } else {
+      s.parts.propagator->step_with(pop, t0_s, cfg.dt_s, request);
+    }
+    timers.integrator_s += seconds_since(t);
+    // Burn-up: found now, removed after detection (the steps' ends stay index-aligned for the scans).
+    t = Clock::now();
+    if (s.parts.burn_up) {
+      burned = flag_in_step ? flagged_burn_ups(pop, t1_s, flags)
+                            : s.parts.find_burn_ups(pop, cfg.burn_up_altitude_m, t1_s, flags);
+      std::sort(burned.begin(), burned.end(), [](const BurnUp& a, const BurnUp& b) { return a.id < b.id; });
+    }
+    timers.burn_up_s += seconds_since(t);
+    ++next;
+  }
+  return static_cast<std::size_t>(next - batch_start);
+}
+
+// Detection: every step of the batch scanned, into encounters[j] for step j.
+void Simulation::RunLoop::scan_batch(std::size_t steps) {
+  Population& pop = s.population;
+  for (std::vector<Encounter>& step_encounters : encounters) step_encounters.clear();
+  encounters.resize(std::max(encounters.size(), steps));
+  if (flight) {
+    if (pop.size() > 1) {
+      flight->scan(pop, encounters);
+      timers.grid_s += flight->last_grid_s();
+      timers.detection_s += flight->last_scan_s() - flight->last_grid_s();
+    }
+    flight->restart();
+  }
+}
+
+// Events, step by step, in sequence order: encounters (canonical), burn-ups (by id, on the batch's last
+// step, whose objects then leave the population), progress.
+void Simulation::RunLoop::emit_batch(std::size_t steps) {
+  auto t = Clock::now();
+  for (std::size_t j = 0; j < steps; ++j) {
+    const double t1_s = static_cast<double>(s.step + 1) * cfg.dt_s;
+    emit_encounters(encounters[j]);
+    if (j + 1 == steps) {
+      emit_burn_ups();
+      remove_burn_ups();
+    }
+    ++s.step;
+    if (s.step % progress_every == 0 || s.step == s.total_steps) emit_progress(t1_s);
+  }
+  timers.output_s += seconds_since(t);
+}
+
+void Simulation::RunLoop::emit_encounters(const std::vector<Encounter>& step_encounters) {
+  for (const Encounter& e : step_encounters) {
+    const std::uint64_t seq = s.next_seq++;
+    hash_encounter(s.events_hash, seq, e);
+    ++s.counters.events;
+    if (e.kind == EncounterKind::kEvasion)
+      ++s.counters.evasions;
+    else
+      ++s.counters.conjunctions;
+    if (e.kind == EncounterKind::kCollision) ++s.counters.collisions;
+    s.closest.update(e);
+    sink.on_encounter(seq, e);
+  }
+}
+
+void Simulation::RunLoop::emit_burn_ups() {
+  for (const BurnUp& b : burned) {
+    const std::uint64_t seq = s.next_seq++;
+    hash_burn_up(s.events_hash, seq, b);
+    ++s.counters.events;
+    ++s.counters.burn_ups;
+    sink.on_burn_up(seq, b);
+  }
+}
+
+void Simulation::RunLoop::remove_burn_ups() {
+  if (!burned.empty()) s.population.remove_flagged(flags);
+}
+
+// Progress after step s.step, ending at t1_s.
+void Simulation::RunLoop::emit_progress(double t1_s) {
+  Progress p;
+  p.step = s.step;
+  p.total_steps = s.total_steps;
+  p.sim_time_s = t1_s;
+  p.objects_alive = s.population.size();
+  p.events_so_far = s.counters.events;
+  p.wall_s = wall_now();
+  const double session_wall = seconds_since(run_start);
+  const std::int64_t done = s.step - first_step;
+  p.eta_s =
+      done > 0 ? session_wall / static_cast<double>(done) * static_cast<double>(s.total_steps - s.step) : 0.0;
+  const std::uint64_t seq = s.next_seq++;
+  hash_progress(s.events_hash, seq, p);
+  sink.on_progress(seq, p);
+}
+
+// The summary, handed to the sink unless the run stopped at a checkpoint (it goes on later).
+RunSummary Simulation::RunLoop::finish() {
   timers.total_s = seconds_since(run_start);
   summary.steps = s.step;
   summary.sim_time_s = static_cast<double>(s.step) * cfg.dt_s;
-  summary.events = s.events;
-  summary.conjunctions = s.conjunctions;
-  summary.collisions = s.collisions;
-  summary.evasions = s.evasions;
-  summary.burn_ups = s.burn_ups;
-  summary.objects_initial = s.objects_initial;
+  static_cast<RunCounters&>(summary) = s.counters;
   summary.objects_final = s.population.size();
   summary.events_digest = s.events_hash.hex_digest();
   summary.state_digest = state_digest(s.population);
   summary.timers = timers;
   if (!summary.stopped_at_checkpoint) sink.on_finished(summary);
   return summary;
+}
+
+RunSummary Simulation::run(EventSink& sink, RunControl& control) {
+  if (state_->config.threads > 0) omp_set_num_threads(state_->config.threads);
+  return RunLoop(*state_, sink, control).run();
 }
 
 }  // namespace kessler

@@ -83,6 +83,7 @@ class Simulation {
 
  private:
   struct State;
+  struct RunLoop;  // the loop of one call of run()
   std::unique_ptr<State> state_;
 };
 

@@ -37,5 +37,17 @@ TEST(Sha256, SavedStateContinuesTheSameDigest) {
   EXPECT_FALSE(bad.restore_state("short"));
 }
 
+// A checkpoint's bytes must not depend on how the events were cut into updates.
+TEST(Sha256, SavedStateDependsOnlyOnTheBytesHashed) {
+  const std::string text(200, 'k');
+  for (std::size_t piece : {1, 8, 10, 63, 64, 65, 100}) {
+    Sha256 whole;
+    whole.update(text.substr(0, 150));
+    Sha256 pieces;
+    for (std::size_t at = 0; at < 150; at += piece) pieces.update(text.substr(at, std::min(piece, 150 - at)));
+    EXPECT_EQ(pieces.save_state(), whole.save_state()) << "pieces of " << piece;
+  }
+}
+
 }  // namespace
 }  // namespace kessler
