@@ -1,6 +1,12 @@
-// kessler, the command-line client: one command per file, registered with KESSLER_COMMAND.
-// Exit codes: 0 success, 1 failure, 2 bad usage or input.
+// kessler, the command-line client: each command lives in its own file under client/commands/ and is
+// listed in the table of client/main.cpp. Exit codes: 0 success, 1 failure, 2 bad usage or input.
 #pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <string>
 
 namespace kessler::cli {
 
@@ -8,18 +14,42 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;
 inline constexpr int kExitUsage = 2;
 
-// argv[0] is the command's name; the options follow.
-using CommandMain = int (*)(int argc, char** argv);
-
-struct CommandRegistration {
-  // `order` sorts the help listing; `usage` is one line such as "submit FILE [--watch]".
-  CommandRegistration(const char* name, int order, const char* usage, const char* summary, CommandMain main);
+// Options every command takes, before or after the command's name (kessler --server H:P runs).
+struct GlobalOptions {
+  std::string server;  // empty: $KESSLER_SERVER, else 127.0.0.1:50051
+  std::string output;  // empty: the command's default format
 };
 
-}  // namespace kessler::cli
+// What runs the command once its options are parsed; returns the exit code.
+using CommandRun = std::function<int()>;
+// Declares the command's options and arguments on `command` and returns what runs it.
+using CommandSetup = CommandRun (*)(CLI::App& command, GlobalOptions& global);
 
-#define KESSLER_COMMAND_CONCAT_(a, b) a##b
-#define KESSLER_COMMAND_CONCAT(a, b) KESSLER_COMMAND_CONCAT_(a, b)
-#define KESSLER_COMMAND(name, order, usage, summary, main_fn)                                             \
-  static ::kessler::cli::CommandRegistration KESSLER_COMMAND_CONCAT(kessler_cmd_reg_, __LINE__)(name, order, \
-                                                                                              usage, summary, main_fn)
+struct CommandSpec {
+  const char* name;
+  const char* summary;
+  CommandSetup setup;
+};
+
+// Declares the global options on a command too, so its --help lists them; `output_help` says which
+// formats it takes. server: whether it talks to kesslerd.
+void add_global_options(CLI::App& command, GlobalOptions& global, const std::string& output_help,
+                        bool server = true);
+
+// The RUN argument of the commands about one run: a positive integer.
+CLI::Option* add_run_id(CLI::App& command, std::int64_t& run_id);
+
+// A check that a number is > 0, with a message that names the value.
+CLI::Validator positive_number();
+
+// Prints "kessler CMD: message (see kessler CMD --help)" and returns kExitUsage: the one style of
+// usage errors, whether CLI11 or a command's own checks find them.
+int usage_error(const std::string& command, const std::string& message);
+
+// "table" (also "text"), "csv" or "json", checked against what the command accepts.
+enum class OutputFormat { kTable, kCsv, kJson };
+// False with a usage error printed when `text` is not among `accepted` ("table", "csv", "json").
+bool resolve_output(const std::string& command, const std::string& text,
+                    std::initializer_list<const char*> accepted, OutputFormat& out);
+
+}  // namespace kessler::cli

@@ -1,5 +1,6 @@
 #include "client/render.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -23,6 +24,10 @@ std::string clock(double s) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", total / 3600, (total / 60) % 60, total % 60);
   return buf;
+}
+
+std::string vector_json(const Eigen::Vector3d& v) {
+  return "[" + num(v.x()) + "," + num(v.y()) + "," + num(v.z()) + "]";
 }
 
 }  // namespace
@@ -55,12 +60,16 @@ std::string json_escape(const std::string& text) {
   return out;
 }
 
-std::string encounter_json(std::uint64_t seq, const Encounter& e, const UtcEpoch& epoch) {
+std::string encounter_json(std::uint64_t seq, const Encounter& e, const UtcEpoch& epoch,
+                           const EncounterNames& names) {
   std::ostringstream s;
   s << "{\"type\":\"" << encounter_kind_name(e.kind) << "\",\"seq\":" << seq << ",\"id1\":" << e.id1
-    << ",\"id2\":" << e.id2 << ",\"tca_s\":" << num(e.tca_s) << ",\"tca\":\""
+    << ",\"id2\":" << e.id2 << ",\"name1\":\"" << json_escape(names.name1) << "\",\"name2\":\""
+    << json_escape(names.name2) << "\",\"tca_s\":" << num(e.tca_s) << ",\"tca\":\""
     << epoch.plus_seconds(e.tca_s).to_iso8601(3) << "\",\"miss_distance_m\":" << num(e.miss_distance_m)
-    << ",\"relative_speed_m_s\":" << num(e.relative_speed_m_s) << ",\"kappa\":" << num(e.kappa) << "}";
+    << ",\"relative_speed_m_s\":" << num(e.relative_speed_m_s) << ",\"kappa\":" << num(e.kappa)
+    << ",\"r1_m\":" << vector_json(e.r1_m) << ",\"v1_m_s\":" << vector_json(e.v1_m_s)
+    << ",\"r2_m\":" << vector_json(e.r2_m) << ",\"v2_m_s\":" << vector_json(e.v2_m_s) << "}";
   return s.str();
 }
 
@@ -104,13 +113,40 @@ std::string summary_json(const RunSummary& r) {
   return s.str();
 }
 
-std::string encounter_row(std::uint64_t seq, const Encounter& e, const UtcEpoch& epoch) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, "%8llu  %-11s  %8llu  %8llu  %s  %12.3f m  %9.1f m/s  kappa %.3f",
-                static_cast<unsigned long long>(seq), encounter_kind_name(e.kind),
-                static_cast<unsigned long long>(e.id1), static_cast<unsigned long long>(e.id2),
-                epoch.plus_seconds(e.tca_s).to_iso8601(3).c_str(), e.miss_distance_m, e.relative_speed_m_s,
-                e.kappa);
+std::string ingest_json(const IngestOutcome& ingest) {
+  std::ostringstream s;
+  s << "{\"type\":\"ingest\",\"records\":" << ingest.records << ",\"kept\":" << ingest.kept
+    << ",\"dropped\":{";
+  for (std::size_t i = 0; i < ingest.dropped.size(); ++i)
+    s << (i ? "," : "") << "\"" << json_escape(ingest.dropped[i].first) << "\":" << ingest.dropped[i].second;
+  s << "}}";
+  return s.str();
+}
+
+std::string ingest_table(const IngestOutcome& ingest) {
+  std::uint64_t dropped = 0;
+  std::size_t width = 0;
+  for (const auto& [reason, count] : ingest.dropped) {
+    dropped += count;
+    width = std::max(width, reason.size());
+  }
+  std::ostringstream s;
+  s << "ingest: " << ingest.records << " records read, " << ingest.kept << " kept, " << dropped
+    << " dropped\n";
+  for (const auto& [reason, count] : ingest.dropped)
+    s << "  " << reason << std::string(width - reason.size() + 2, ' ') << count << "\n";
+  return s.str();
+}
+
+std::string encounter_row(std::uint64_t seq, const Encounter& e, const UtcEpoch& epoch,
+                          const EncounterNames& names) {
+  char buf[384];
+  std::snprintf(
+      buf, sizeof buf, "%8llu  %-11s  %8llu %-20.20s  %8llu %-20.20s  %s  %12.3f m  %9.1f m/s  kappa %.3f",
+      static_cast<unsigned long long>(seq), encounter_kind_name(e.kind),
+      static_cast<unsigned long long>(e.id1), names.name1.empty() ? "-" : names.name1.c_str(),
+      static_cast<unsigned long long>(e.id2), names.name2.empty() ? "-" : names.name2.c_str(),
+      epoch.plus_seconds(e.tca_s).to_iso8601(3).c_str(), e.miss_distance_m, e.relative_speed_m_s, e.kappa);
   return buf;
 }
 

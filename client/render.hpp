@@ -5,13 +5,21 @@
 #include <cstdint>
 #include <string>
 
+#include "core/scenario/run_builder.hpp"
 #include "core/simulation/events.hpp"
 #include "core/time/epoch.hpp"
 
 namespace kessler::cli {
 
+// The objects' names of an encounter, empty where the population has none.
+struct EncounterNames {
+  std::string name1, name2;
+};
+
 // JSON lines. Doubles are written with 17 significant digits, so values round-trip bit for bit.
-std::string encounter_json(std::uint64_t seq, const Encounter& e, const UtcEpoch& epoch);
+// Encounters carry both objects' names and their states at TCA (TEME, m and m/s).
+std::string encounter_json(std::uint64_t seq, const Encounter& e, const UtcEpoch& epoch,
+                           const EncounterNames& names = {});
 std::string burn_up_json(std::uint64_t seq, const BurnUp& b, const UtcEpoch& epoch);
 std::string progress_json(std::uint64_t seq, const Progress& p);
 std::string checkpoint_json(std::uint64_t last_seq, std::int64_t step, const std::string& where);
@@ -19,10 +27,16 @@ std::string checkpoint_json(std::uint64_t last_seq, std::int64_t step, const std
 std::string summary_json(const RunSummary& s);
 
 // Table rows for humans.
-std::string encounter_row(std::uint64_t seq, const Encounter& e, const UtcEpoch& epoch);
+std::string encounter_row(std::uint64_t seq, const Encounter& e, const UtcEpoch& epoch,
+                          const EncounterNames& names = {});
 std::string burn_up_row(std::uint64_t seq, const BurnUp& b, const UtcEpoch& epoch);
 std::string progress_row(const Progress& p);
 std::string summary_table(const RunSummary& s);
+
+// The ingest report, before a run's events: {"type":"ingest","records":N,"kept":N,"dropped":{"<reason>":N}}
+// and, for people, a few lines (records read, kept, each reason with its count).
+std::string ingest_json(const IngestOutcome& ingest);
+std::string ingest_table(const IngestOutcome& ingest);
 
 const char* encounter_kind_name(EncounterKind kind);
 std::string json_escape(const std::string& text);

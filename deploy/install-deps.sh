@@ -7,7 +7,7 @@ packages=(
   libeigen3-dev libomp-dev
   libprotobuf-dev protobuf-compiler libgrpc++-dev protobuf-compiler-grpc
   libsqlite3-dev sqlite3
-  libyaml-cpp-dev
+  libyaml-cpp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-format zlib1g-dev libssl-dev
 )

@@ -3,10 +3,13 @@
 #include <malloc.h>
 
 #include <chrono>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <thread>
 #include <type_traits>
+#include <utility>
+#include <vector>
 
 #include <google/protobuf/descriptor.h>
 #include <google/protobuf/message.h>
@@ -28,6 +31,51 @@ void set_vector(v1::Vector3* out, const Eigen::Vector3d& v) {
   out->set_y(v.y());
   out->set_z(v.z());
 }
+
+v1::IngestReport ingest_proto(const IngestReport& report) {
+  const IngestOutcome outcome = ingest_outcome(report);
+  v1::IngestReport out;
+  out.set_records(outcome.records);
+  out.set_kept(outcome.kept);
+  for (const auto& [reason, count] : outcome.dropped) {
+    v1::IngestDrop* drop = out.add_dropped();
+    drop->set_reason(reason);
+    drop->set_count(count);
+  }
+  return out;
+}
+
+// The population's names, for the conjunction listings (a resumed run's are stored already).
+void store_names(Store& store, std::int64_t run_id, const Population& population) {
+  std::vector<std::pair<std::uint64_t, std::string>> names;
+  names.reserve(population.size());
+  for (std::size_t i = 0; i < population.size(); ++i)
+    if (!population.name[i].empty()) names.emplace_back(population.id[i], population.name[i]);
+  store.set_object_names(run_id, names);
+}
+
+// Names the objects of encounters on their way to a watcher. The run's names are read at its first
+// encounter: they are stored before the run's first event.
+class EncounterNamer {
+ public:
+  EncounterNamer(Store& store, std::int64_t run_id) : store_(store), run_id_(run_id) {}
+  v1::RunEvent named(const v1::RunEvent& event) {
+    if (!names_) names_ = store_.object_names(run_id_);
+    v1::RunEvent out = event;
+    out.mutable_encounter()->set_name1(name_of(event.encounter().id1()));
+    out.mutable_encounter()->set_name2(name_of(event.encounter().id2()));
+    return out;
+  }
+
+ private:
+  std::string name_of(std::uint64_t id) const {
+    auto it = names_->find(id);
+    return it == names_->end() ? std::string() : it->second;
+  }
+  Store& store_;
+  std::int64_t run_id_;
+  std::optional<std::map<std::uint64_t, std::string>> names_;
+};
 
 v1::StateChange state_of(const v1::Run& run) {
   v1::StateChange change;
@@ -164,12 +212,13 @@ v1::Run RunManager::submit(const v1::SubmitRunRequest& request) {
   // An inline population is ingested once here, so a broken catalog is refused now rather than
   // failing the run later.
   const auto source = scenario.population().source_case();
+  std::optional<IngestReport> ingest;
   if (source == v1::PopulationSource::kCatalog || source == v1::PopulationSource::kStateTable) {
     BuildOptions build;
     build.threads = 1;
     if (!options_.datasets_dir.empty()) build.datasets_dir = options_.datasets_dir;
     FieldError error;
-    if (!build_simulation(scenario, build, &error))
+    if (!build_simulation(scenario, build, &error, &ingest))
       throw ServiceError(Code::kInvalidArgument, error.message(), error.path);
   }
   if (scheduler_->queued() >= options_.queue_limit)
@@ -177,6 +226,7 @@ v1::Run RunManager::submit(const v1::SubmitRunRequest& request) {
                                                      " runs are waiting; try later");
   int threads = request.threads() > 0 ? request.threads() : options_.threads_per_run;
   std::int64_t id = store_.create_run(scenario, threads, unix_now_s());
+  if (ingest) store_.set_ingest(id, ingest_proto(*ingest));
   if (!scheduler_->enqueue(id)) {
     store_.delete_run(id);
     throw ServiceError(Code::kResourceExhausted, "queue full: " + std::to_string(options_.queue_limit) +
@@ -312,10 +362,13 @@ void RunManager::execute(std::int64_t run_id, RunControl& control) {
   if (!options_.datasets_dir.empty()) build.datasets_dir = options_.datasets_dir;
   FieldError error;
   std::unique_ptr<Simulation> simulation;
+  std::optional<IngestReport> ingest;
   try {
     auto checkpoint = store_.latest_checkpoint(run_id);
     simulation = checkpoint ? resume_simulation(run->scenario(), checkpoint->bytes, build, &error)
-                            : build_simulation(run->scenario(), build, &error);
+                            : build_simulation(run->scenario(), build, &error, &ingest);
+    if (ingest) store_.set_ingest(run_id, ingest_proto(*ingest));
+    if (simulation) store_names(store_, run_id, simulation->population());
   } catch (const std::exception& e) {
     error.reason = e.what();
   }
@@ -368,10 +421,11 @@ void RunManager::watch(const v1::WatchRunRequest& request, const WriteEvent& wri
     return write(event, false);
   };
   // `more`: another event follows at once, so the transport may hold this one and send them together.
+  EncounterNamer namer(store_, id);
   auto send = [&](const v1::RunEvent& event, bool more) {
     cursor = event.seq();
     if (no_progress && event.has_progress()) return true;
-    return write(event, more);
+    return event.has_encounter() ? write(namer.named(event), more) : write(event, more);
   };
   auto send_from_store = [&]() -> int {  // events sent, or -1 when the client went away
     auto events = store_.read_events(id, cursor, static_cast<int>(kBatch), false);

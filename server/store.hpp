@@ -11,11 +11,13 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "kessler/v1/names.hpp"
@@ -56,7 +58,7 @@ class Store {
   Store(const Store&) = delete;
   Store& operator=(const Store&) = delete;
 
-  static constexpr int kSchemaVersion = 1;
+  static constexpr int kSchemaVersion = 2;
   int schema_version();
 
   // Runs. The id is assigned here.
@@ -73,6 +75,12 @@ class Store {
   // A terminal state, with the error or the summary.
   void set_finished(std::int64_t run_id, v1::RunState state, double finished_unix_s, const std::string& error,
                     const v1::RunSummary* summary);
+  // What the ingest did with the run's catalog (GetRun's ingest), stored when the population is built.
+  void set_ingest(std::int64_t run_id, const v1::IngestReport& report);
+  // The names of the run's objects by id, for the conjunction listings; written once per run (a second
+  // call keeps the first names). Objects without a name are left out.
+  void set_object_names(std::int64_t run_id, const std::vector<std::pair<std::uint64_t, std::string>>& names);
+  std::map<std::uint64_t, std::string> object_names(std::int64_t run_id);
   // Removes the run and everything stored for it. False when there was no such run.
   bool delete_run(std::int64_t run_id);
 

@@ -2,96 +2,13 @@
 
 #include <google/protobuf/util/json_util.h>
 
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <iostream>
 #include <sstream>
 
-#include "client/command.hpp"
 #include "core/time/epoch.hpp"
 
 namespace kessler::cli {
-
-bool Options::parse(int argc, char** argv, std::vector<OptionSpec> specs, std::string& error) {
-  specs.push_back({"--server", true});
-  specs.push_back({"--output", true});
-  specs.push_back({"--help", false});
-  for (int i = 1; i < argc; ++i) {
-    std::string arg = argv[i];
-    if (arg == "-h") arg = "--help";
-    if (arg.size() < 2 || arg.rfind("--", 0) != 0 || arg == "--") {
-      positional.push_back(arg);
-      continue;
-    }
-    std::string name = arg, value;
-    bool inline_value = false;
-    if (auto eq = arg.find('='); eq != std::string::npos) {
-      name = arg.substr(0, eq);
-      value = arg.substr(eq + 1);
-      inline_value = true;
-    }
-    const OptionSpec* spec = nullptr;
-    for (const auto& s : specs)
-      if (s.name == name) spec = &s;
-    if (!spec) {
-      error = "unknown option " + name;
-      return false;
-    }
-    if (spec->takes_value && !inline_value) {
-      if (i + 1 >= argc) {
-        error = name + " needs a value";
-        return false;
-      }
-      value = argv[++i];
-    } else if (!spec->takes_value && inline_value) {
-      error = name + " takes no value";
-      return false;
-    }
-    values_[name] = value;
-  }
-  return true;
-}
-
-std::string Options::get(const std::string& name, const std::string& fallback) const {
-  auto it = values_.find(name);
-  return it == values_.end() ? fallback : it->second;
-}
-
-std::optional<OutputFormat> parse_output(const std::string& text) {
-  if (text == "table" || text == "text") return OutputFormat::kTable;
-  if (text == "csv") return OutputFormat::kCsv;
-  if (text == "json") return OutputFormat::kJson;
-  return std::nullopt;
-}
-
-bool parse_run_id(const std::string& text, std::int64_t& out) {
-  char* end = nullptr;
-  errno = 0;
-  long long v = std::strtoll(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0' || errno || v <= 0) return false;
-  out = v;
-  return true;
-}
-
-bool parse_double(const std::string& text, double& out) {
-  char* end = nullptr;
-  double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(v)) return false;
-  out = v;
-  return true;
-}
-
-bool parse_uint(const std::string& text, std::uint64_t& out) {
-  char* end = nullptr;
-  errno = 0;
-  if (text.empty() || text[0] == '-') return false;
-  unsigned long long v = std::strtoull(text.c_str(), &end, 10);
-  if (*end != '\0' || errno) return false;
-  out = v;
-  return true;
-}
 
 std::string json_string(const std::string& s) {
   std::string out = "\"";
@@ -223,6 +140,14 @@ std::string summary_text(const v1::Run& run) {
   return out.str();
 }
 
+IngestOutcome ingest_outcome_of(const v1::IngestReport& report) {
+  IngestOutcome out;
+  out.records = report.records();
+  out.kept = report.kept();
+  for (const auto& drop : report.dropped()) out.dropped.push_back({drop.reason(), drop.count()});
+  return out;
+}
+
 std::string format_duration(double seconds) {
   if (!std::isfinite(seconds) || seconds < 0) return "?";
   auto total = static_cast<long long>(seconds + 0.5);
@@ -269,11 +194,6 @@ std::string csv_field(const std::string& s) {
   std::string out = "\"";
   for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
   return out + "\"";
-}
-
-int usage_error(const std::string& command, const std::string& message) {
-  std::cerr << "kessler " << command << ": " << message << " (see kessler " << command << " --help)\n";
-  return kExitUsage;
 }
 
 }  // namespace kessler::cli

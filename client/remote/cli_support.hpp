@@ -1,4 +1,4 @@
-// What the remote commands share: option parsing, output formats, JSON and table rendering, and the
+// What the remote commands share: JSON and table rendering, times and durations, and the
 // run summary object (the same keys as `kessler run --local`).
 #pragma once
 
@@ -8,37 +8,11 @@
 #include <string>
 #include <vector>
 
+#include "core/scenario/run_builder.hpp"
 #include "kessler/v1/names.hpp"
 #include "kessler/v1/service.pb.h"
 
 namespace kessler::cli {
-
-struct OptionSpec {
-  std::string name;  // "--server"
-  bool takes_value = true;
-};
-
-// "--name value", "--name=value" and "--flag" options; everything else is positional.
-class Options {
- public:
-  // Adds --server, --output and --help to `specs`. False with `error` set on an unknown option or a
-  // missing value.
-  bool parse(int argc, char** argv, std::vector<OptionSpec> specs, std::string& error);
-  bool has(const std::string& name) const { return values_.count(name) > 0; }
-  std::string get(const std::string& name, const std::string& fallback = "") const;
-  std::vector<std::string> positional;
-
- private:
-  std::map<std::string, std::string> values_;
-};
-
-enum class OutputFormat { kTable, kCsv, kJson };
-// "table" (also "text"), "csv", "json"; nullopt otherwise.
-std::optional<OutputFormat> parse_output(const std::string& text);
-
-bool parse_run_id(const std::string& text, std::int64_t& out);
-bool parse_double(const std::string& text, double& out);
-bool parse_uint(const std::string& text, std::uint64_t& out);
 
 // Minimal JSON building.
 std::string json_string(const std::string& s);
@@ -69,6 +43,9 @@ std::string summary_json(const v1::Run& run);
 // A few lines for people.
 std::string summary_text(const v1::Run& run);
 
+// The run's ingest report as `run --local` renders it (client/render.hpp).
+IngestOutcome ingest_outcome_of(const v1::IngestReport& report);
+
 // "1d 02:03:04" style durations and UTC times of simulation seconds.
 std::string format_duration(double seconds);
 std::string format_sim_time(const std::string& start_epoch, double sim_time_s);
@@ -77,8 +54,5 @@ std::string format_sim_time(const std::string& start_epoch, double sim_time_s);
 std::string render_table(const std::vector<std::string>& header,
                          const std::vector<std::vector<std::string>>& rows);
 std::string csv_field(const std::string& s);
-
-// Prints "kessler CMD: message" and returns the usage exit code.
-int usage_error(const std::string& command, const std::string& message);
 
 }  // namespace kessler::cli

@@ -3,6 +3,8 @@
 #include "core/scenario/run_builder.hpp"
 
 #include <exception>
+#include <map>
+#include <set>
 
 #include "core/conjunctions/detector.hpp"
 #include "core/integration/symplectic_propagator.hpp"
@@ -20,6 +22,7 @@ struct LoadedPopulation {
   Population population;
   std::vector<ObjectId> element_ids;
   std::vector<MeanElements> elements;
+  std::optional<IngestReport> report;  // when the population was ingested
 };
 
 IngestRules ingest_rules_of(const v1::PopulationSource& source) {
@@ -60,6 +63,7 @@ CatalogFormat catalog_format_of(v1::CatalogFormat format) {
 
 // An ingest's outcome: refused (strict), nothing left (with the report's reasons), or the population.
 std::optional<FieldError> take(IngestResult result, const std::string& path, LoadedPopulation& out) {
+  out.report = result.report;
   if (result.refused) return FieldError{path, result.error};
   if (result.population.empty()) {
     std::string why = "no objects are left after the ingest filters (" +
@@ -178,7 +182,7 @@ std::optional<FieldError> load_guarded(const v1::Scenario& scenario, const Simul
 }  // namespace
 
 std::unique_ptr<Simulation> build_simulation(const v1::Scenario& scenario, const BuildOptions& options,
-                                             FieldError* error) {
+                                             FieldError* error, std::optional<IngestReport>* ingest) {
   FieldError ignored;
   if (!error) error = &ignored;
   auto fail = [&](FieldError e) {
@@ -188,7 +192,9 @@ std::unique_ptr<Simulation> build_simulation(const v1::Scenario& scenario, const
   if (auto e = validate_scenario(scenario)) return fail(*e);
   const SimulationConfig config = config_of(scenario, options);
   LoadedPopulation loaded;
-  if (auto e = load_guarded(scenario, config, options, loaded)) return fail(*e);
+  auto load_error = load_guarded(scenario, config, options, loaded);
+  if (ingest) *ingest = loaded.report;
+  if (load_error) return fail(*load_error);
   Population& population = loaded.population;
   const auto& source = scenario.population();
   if (source.has_max_objects() && population.size() > source.max_objects()) {
@@ -225,6 +231,36 @@ std::unique_ptr<Simulation> resume_simulation(const v1::Scenario& scenario, cons
   } catch (const std::exception& e) {
     return fail({"checkpoint", e.what()});
   }
+}
+
+IngestOutcome ingest_outcome(const IngestReport& report) {
+  IngestOutcome out;
+  out.records = report.records;
+  out.kept = report.kept;
+  for (const auto& [reason, count] : report.rejected_by_reason)
+    out.dropped.push_back({"rejected: " + reason, count});
+  // propagation_failures also lists objects whose state came out invalid ("invalid state", counted
+  // apart): only messages that are SGP4 errors are split out of "SGP4 failed".
+  std::set<std::string> sgp4_errors;
+  for (Sgp4Error e : {Sgp4Error::kMeanEccentricity, Sgp4Error::kMeanMotion, Sgp4Error::kPerturbedEccentricity,
+                      Sgp4Error::kSemiLatusRectum, Sgp4Error::kDecayed})
+    sgp4_errors.insert(sgp4_error_text(e));
+  std::map<std::string, std::uint64_t> by_error;
+  for (const auto& [id, message] : report.propagation_failures)
+    if (sgp4_errors.count(message)) ++by_error[message];
+  for (const auto& [reason, count] : report.filtered_by_reason) {
+    if (reason != "SGP4 failed") {
+      out.dropped.push_back({reason, count});
+      continue;
+    }
+    std::uint64_t listed = 0;
+    for (const auto& [message, n] : by_error) {
+      out.dropped.push_back({"SGP4 failed: " + message, n});
+      listed += n;
+    }
+    if (count > listed) out.dropped.push_back({reason, count - listed});
+  }
+  return out;
 }
 
 }  // namespace kessler

@@ -2,11 +2,15 @@
 // field paths, population ingest, propagator choice. What the CLI's run --local and the daemon share.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
+#include "core/population/ingest.hpp"
 #include "core/simulation/simulation.hpp"
 #include "kessler/v1/scenario.pb.h"
 
@@ -42,8 +46,23 @@ struct BuildOptions {
 
 // The run the scenario describes: validates, ingests the population, builds the propagator.
 // Returns nullptr with *error set when the scenario cannot run (an empty population after filters too).
+// `ingest`, when given, receives the ingest's report for a population read from a catalog, a bundled
+// catalog or a state table (also when the ingest leaves nothing to run); it stays empty for synthetic
+// populations and the leo-19647 dataset, which are not ingested.
 std::unique_ptr<Simulation> build_simulation(const v1::Scenario& scenario, const BuildOptions& options,
-                                             FieldError* error);
+                                             FieldError* error,
+                                             std::optional<IngestReport>* ingest = nullptr);
+
+// What an ingest did with a catalog, in a user's terms: each record is kept or dropped for exactly one
+// reason, so records == kept + the sum of `dropped`.
+struct IngestOutcome {
+  std::uint64_t records = 0;
+  std::uint64_t kept = 0;
+  // Reason and count, in the report's order: bad records as "rejected: <reason>", the filters' reasons
+  // ("docked", "excluded name", ...), and SGP4 failures by their error as "SGP4 failed: <error>".
+  std::vector<std::pair<std::string, std::uint64_t>> dropped;
+};
+IngestOutcome ingest_outcome(const IngestReport& report);
 
 // The same run continued from a checkpoint taken by it.
 std::unique_ptr<Simulation> resume_simulation(const v1::Scenario& scenario, const std::string& checkpoint,

@@ -2,6 +2,9 @@
 // resume bit for bit, refusals before anything runs.
 #include <gtest/gtest.h>
 
+#include <map>
+#include <optional>
+
 #include "core/scenario/run_builder.hpp"
 
 namespace kessler {
@@ -217,6 +220,35 @@ population:
   FieldError error;
   EXPECT_FALSE(build_simulation(s, options, &error));
   EXPECT_EQ(error.path, "population");
+}
+
+// Every record of a catalog is kept or dropped for one reason: records == kept + the drops.
+TEST(RunBuilder, TheIngestReportAccountsForEveryRecord) {
+  v1::Scenario scenario;
+  auto e = load_scenario_file(KESSLER_SCENARIO_TEST_DATA_DIR "/catalog-small.yaml", scenario);
+  ASSERT_FALSE(e) << e->message();
+  std::optional<IngestReport> report;
+  FieldError error;
+  auto sim = build_simulation(scenario, BuildOptions(), &error, &report);
+  ASSERT_TRUE(sim) << error.message();
+  ASSERT_TRUE(report);
+  const IngestOutcome outcome = ingest_outcome(*report);
+  std::uint64_t dropped = 0;
+  std::map<std::string, std::uint64_t> by_reason;
+  for (const auto& [reason, count] : outcome.dropped) {
+    dropped += count;
+    by_reason[reason] += count;
+  }
+  EXPECT_EQ(outcome.records, 204u);
+  EXPECT_EQ(outcome.records, outcome.kept + dropped);
+  EXPECT_EQ(outcome.kept, sim->population().size());
+  EXPECT_EQ(by_reason["excluded name"], 2u);
+  EXPECT_EQ(by_reason["rejected: checksum"], 1u);
+
+  // A population that is not ingested has no report.
+  report.reset();
+  ASSERT_TRUE(build_simulation(leo_subset(), BuildOptions(), &error, &report)) << error.message();
+  EXPECT_FALSE(report);
 }
 
 }  // namespace

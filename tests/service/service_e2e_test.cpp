@@ -306,6 +306,41 @@ std::int64_t stored_checkpoint_step(const std::string& db_path, std::int64_t run
   return step;
 }
 
+// A catalog run through the daemon, global options before the command: the ingest report first in
+// submit --watch's JSON and in show, the objects' names in the conjunction listings and the watch stream.
+TEST(ServiceEndToEnd, IngestReportAndObjectNamesReachTheCli) {
+  TempDir dir;
+  auto daemon = std::make_unique<Daemon>(dir.path() + "/k.db");
+  daemon->start();
+  const std::string server = " --server " + daemon->address();
+  const std::string scenario = test::source_path("tests/scenario/data/catalog-small.yaml");
+  auto submitted = cli(dir, server + " --output json submit " + scenario + " --watch");
+  ASSERT_EQ(submitted.exit_code, 0) << submitted.err;
+  const std::string first = submitted.out.substr(0, submitted.out.find('\n'));
+  EXPECT_EQ(first.rfind("{\"type\":\"ingest\",\"records\":204,", 0), 0u) << first;
+  EXPECT_NE(first.find("\"excluded name\":2"), std::string::npos) << first;
+  EXPECT_NE(submitted.last_line().find("\"state\":\"succeeded\""), std::string::npos) << submitted.out;
+
+  auto show = cli(dir, "show 1" + server);
+  EXPECT_NE(show.out.find("ingest: 204 records read"), std::string::npos) << show.out;
+  auto table = cli(dir, server + " conjunctions 1");
+  EXPECT_NE(table.out.find("TIROS 1"), std::string::npos) << table.out;
+  EXPECT_NE(table.out.find("KESSLER TWIN"), std::string::npos) << table.out;
+  auto csv = cli(dir, "conjunctions 1 --output csv" + server);
+  EXPECT_NE(csv.out.find(",TIROS 1,KESSLER TWIN\n"), std::string::npos) << csv.out;
+  auto json = cli(dir, "conjunctions 1 --output json" + server);
+  EXPECT_NE(json.out.find("\"name1\": \"TIROS 1\", \"name2\": \"KESSLER TWIN\""), std::string::npos)
+      << json.out;
+  EXPECT_NE(json.out.find("\"r1_m\": ["), std::string::npos) << json.out;
+  auto watched = cli(dir, "watch 1 --events all --output json" + server);
+  EXPECT_EQ(watched.out.rfind("{\"type\":\"ingest\"", 0), 0u) << watched.out.substr(0, 200);
+  EXPECT_NE(watched.out.find("\"name1\":\"TIROS 1\",\"name2\":\"KESSLER TWIN\""), std::string::npos);
+
+  auto bad = cli(dir, "runs --bogus" + server);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--bogus"), std::string::npos) << bad.err;
+}
+
 TEST(ServiceEndToEnd, SigkillMidRunThenRestartCompletesWithTheSameEvents) {
   TempDir dir;
   // The tiny run five times as long (about a second on one thread), so that it is still running when

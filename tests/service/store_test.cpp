@@ -43,6 +43,36 @@ std::shared_ptr<const v1::RunEvent> progress_event(std::int64_t run, std::uint64
   return e;
 }
 
+TEST(Store, KeepsTheIngestReportAndNamesTheObjectsOfConjunctions) {
+  TempDir dir;
+  Store store(dir.path() + "/k.db");
+  const std::int64_t id = store.create_run(v1::Scenario(), 1, 1000.0);
+  EXPECT_FALSE(store.get_run(id)->has_ingest());
+  v1::IngestReport report;
+  report.set_records(10);
+  report.set_kept(7);
+  auto* drop = report.add_dropped();
+  drop->set_reason("excluded name");
+  drop->set_count(3);
+  store.set_ingest(id, report);
+  EXPECT_EQ(store.get_run(id)->ingest().SerializeAsString(), report.SerializeAsString());
+  EXPECT_EQ(store.list_runs({}, 10, "").items.front().ingest().kept(), 7u);
+
+  store.set_object_names(id, {{5, "TIROS 1"}, {9, ""}});
+  store.set_object_names(id, {{5, "RENAMED"}});  // the first names stay
+  store.append_event(encounter_event(id, 1, 5, 9, 10.0, 100.0, 0.5));
+  store.flush();
+  v1::ListConjunctionsRequest request;
+  request.set_run_id(id);
+  auto page = store.list_conjunctions(request);
+  ASSERT_EQ(page.items.size(), 1u);
+  EXPECT_EQ(page.items[0].name1(), "TIROS 1");
+  EXPECT_EQ(page.items[0].name2(), "");
+  EXPECT_EQ(store.object_names(id).size(), 1u);
+  EXPECT_TRUE(store.delete_run(id));
+  EXPECT_TRUE(store.object_names(id).empty());
+}
+
 TEST(Store, CreatesSchemaAndKeepsRunsAcrossReopen) {
   TempDir dir;
   std::string path = dir.path() + "/k.db";

@@ -1,0 +1,192 @@
+// The store's runs: creation, state changes, listing, deletion, and what is known of a run's population
+// (its ingest report and its objects' names).
+#include <algorithm>
+#include <stdexcept>
+
+#include "server/store.hpp"
+#include "server/store_internal.hpp"
+
+namespace kessler::server {
+
+using namespace detail;
+
+// ---- runs ----
+
+std::int64_t Store::create_run(const v1::Scenario& scenario, int threads, double created_unix_s) {
+  Lease lease(*this);
+  Statement s(lease.db(),
+              "INSERT INTO runs(name, state, scenario, threads, created_unix_s) VALUES(?, ?, ?, ?, ?)");
+  std::string bytes = scenario.SerializeAsString();
+  s.bind(1, scenario.name()).bind(2, static_cast<int>(v1::RUN_STATE_QUEUED)).bind_blob(3, bytes);
+  s.bind(4, threads).bind(5, created_unix_s);
+  s.run();
+  return sqlite3_last_insert_rowid(lease.db());
+}
+
+namespace {
+
+const char* const kRunColumns =
+    "id, name, state, threads, created_unix_s, started_unix_s, finished_unix_s, error, summary, ingest";
+
+v1::Run run_from_row(const Statement& s) {
+  v1::Run run;
+  run.set_id(s.i64(0));
+  run.set_name(s.text(1));
+  run.set_state(static_cast<v1::RunState>(s.i64(2)));
+  run.set_threads(static_cast<int>(s.i64(3)));
+  run.set_created_unix_s(s.f64(4));
+  run.set_started_unix_s(s.f64(5));
+  run.set_finished_unix_s(s.f64(6));
+  run.set_error(s.text(7));
+  if (!s.is_null(8)) run.mutable_summary()->ParseFromString(s.text(8));
+  if (!s.is_null(9)) run.mutable_ingest()->ParseFromString(s.text(9));
+  return run;
+}
+
+}  // namespace
+
+std::optional<v1::Run> Store::get_run(std::int64_t run_id, bool with_scenario) {
+  Lease lease(*this);
+  Statement s(lease.db(), std::string("SELECT ") + kRunColumns + ", scenario FROM runs WHERE id = ?");
+  s.bind(1, run_id);
+  if (!s.step()) return std::nullopt;
+  v1::Run run = run_from_row(s);
+  if (with_scenario) run.mutable_scenario()->ParseFromString(s.text(10));
+  Statement last(lease.db(), "SELECT MAX(seq) FROM events WHERE run_id = ?");
+  last.bind(1, run_id);
+  if (last.step() && !last.is_null(0)) run.set_last_seq(static_cast<std::uint64_t>(last.i64(0)));
+  Statement progress(lease.db(),
+                     "SELECT payload FROM events WHERE run_id = ? AND kind = ? ORDER BY seq DESC LIMIT 1");
+  progress.bind(1, run_id).bind(2, static_cast<int>(kKindProgress));
+  if (progress.step()) {
+    v1::RunEvent event;
+    if (event.ParseFromString(progress.text(0))) *run.mutable_progress() = event.progress();
+  }
+  return run;
+}
+
+Page<v1::Run> Store::list_runs(const std::vector<v1::RunState>& states, int page_size,
+                               const std::string& page_token) {
+  page_size = page_size <= 0 ? 50 : std::min(page_size, 1000);
+  std::int64_t before = INT64_MAX;
+  if (!page_token.empty()) {
+    try {
+      before = std::stoll(page_token);
+    } catch (...) {
+      throw std::invalid_argument("page_token: not a token from a previous page");
+    }
+  }
+  std::string sql = std::string("SELECT ") + kRunColumns + " FROM runs WHERE id < ?";
+  if (!states.empty()) {
+    sql += " AND state IN (";
+    for (std::size_t i = 0; i < states.size(); ++i) sql += (i ? ",?" : "?");
+    sql += ")";
+  }
+  sql += " ORDER BY id DESC LIMIT ?";
+  Lease lease(*this);
+  Statement s(lease.db(), sql);
+  int i = 1;
+  s.bind(i++, before);
+  for (auto state : states) s.bind(i++, static_cast<int>(state));
+  s.bind(i++, page_size + 1);
+  Page<v1::Run> page;
+  while (s.step()) page.items.push_back(run_from_row(s));
+  if (static_cast<int>(page.items.size()) > page_size) {
+    page.items.pop_back();
+    page.next_token = std::to_string(page.items.back().id());
+  }
+  return page;
+}
+
+std::vector<std::int64_t> Store::runs_in_state(v1::RunState state) {
+  Lease lease(*this);
+  Statement s(lease.db(), "SELECT id FROM runs WHERE state = ? ORDER BY id");
+  s.bind(1, static_cast<int>(state));
+  std::vector<std::int64_t> ids;
+  while (s.step()) ids.push_back(s.i64(0));
+  return ids;
+}
+
+void Store::set_running(std::int64_t run_id, double started_unix_s) {
+  Lease lease(*this);
+  Statement s(lease.db(), "UPDATE runs SET state = ?, started_unix_s = ? WHERE id = ?");
+  s.bind(1, static_cast<int>(v1::RUN_STATE_RUNNING)).bind(2, started_unix_s).bind(3, run_id);
+  s.run();
+}
+
+void Store::set_queued(std::int64_t run_id) {
+  Lease lease(*this);
+  Statement s(lease.db(), "UPDATE runs SET state = ? WHERE id = ?");
+  s.bind(1, static_cast<int>(v1::RUN_STATE_QUEUED)).bind(2, run_id);
+  s.run();
+}
+
+void Store::set_finished(std::int64_t run_id, v1::RunState state, double finished_unix_s,
+                         const std::string& error, const v1::RunSummary* summary) {
+  Lease lease(*this);
+  Statement s(lease.db(),
+              "UPDATE runs SET state = ?, finished_unix_s = ?, error = ?, summary = ? WHERE id = ?");
+  s.bind(1, static_cast<int>(state)).bind(2, finished_unix_s).bind(3, error);
+  std::string bytes = summary ? summary->SerializeAsString() : std::string();
+  if (summary) s.bind_blob(4, bytes);
+  s.bind(5, run_id);
+  s.run();
+}
+
+void Store::set_ingest(std::int64_t run_id, const v1::IngestReport& report) {
+  Lease lease(*this);
+  Statement s(lease.db(), "UPDATE runs SET ingest = ? WHERE id = ?");
+  const std::string bytes = report.SerializeAsString();
+  s.bind_blob(1, bytes).bind(2, run_id);
+  s.run();
+}
+
+void Store::set_object_names(std::int64_t run_id,
+                             const std::vector<std::pair<std::uint64_t, std::string>>& names) {
+  Lease lease(*this);
+  exec(lease.db(), "BEGIN IMMEDIATE");
+  try {
+    Statement s(lease.db(), "INSERT OR IGNORE INTO object_names(run_id, object_id, name) VALUES(?, ?, ?)");
+    for (const auto& [id, name] : names) {
+      if (name.empty()) continue;
+      s.bind(1, run_id).bind(2, id).bind(3, name);
+      s.run();
+    }
+    exec(lease.db(), "COMMIT");
+  } catch (...) {
+    sqlite3_exec(lease.db(), "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+}
+
+std::map<std::uint64_t, std::string> Store::object_names(std::int64_t run_id) {
+  Lease lease(*this);
+  Statement s(lease.db(), "SELECT object_id, name FROM object_names WHERE run_id = ?");
+  s.bind(1, run_id);
+  std::map<std::uint64_t, std::string> names;
+  while (s.step()) names.emplace(static_cast<std::uint64_t>(s.i64(0)), s.text(1));
+  return names;
+}
+
+bool Store::delete_run(std::int64_t run_id) {
+  flush();
+  Lease lease(*this);
+  exec(lease.db(), "BEGIN IMMEDIATE");
+  try {
+    bool existed = false;
+    for (const char* sql : {"DELETE FROM events WHERE run_id = ?", "DELETE FROM checkpoints WHERE run_id = ?",
+                            "DELETE FROM object_names WHERE run_id = ?", "DELETE FROM runs WHERE id = ?"}) {
+      Statement s(lease.db(), sql);
+      s.bind(1, run_id);
+      s.run();
+      existed = sqlite3_changes(lease.db()) > 0;
+    }
+    exec(lease.db(), "COMMIT");
+    return existed;
+  } catch (...) {
+    sqlite3_exec(lease.db(), "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+}
+
+}  // namespace kessler::server

@@ -1,0 +1,241 @@
+// The store's writer thread: events and checkpoints batched into transactions in the order they were
+// handed over.
+#include <time.h>
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+
+#include "server/store.hpp"
+#include "server/store_internal.hpp"
+
+namespace kessler::server {
+
+using namespace detail;
+
+namespace {
+
+double thread_cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+}  // namespace
+
+// ---- the writer ----
+
+void Store::append_event(std::shared_ptr<const v1::RunEvent> event) {
+  Pending p;
+  p.event = std::move(event);
+  {
+    std::lock_guard lock(queue_mutex_);
+    queue_.push_back(std::move(p));
+    ++appended_;
+  }
+  queue_cv_.notify_one();
+}
+
+void Store::append_events(const std::vector<std::shared_ptr<const v1::RunEvent>>& events) {
+  if (events.empty()) return;
+  {
+    std::lock_guard lock(queue_mutex_);
+    for (const auto& e : events) {
+      Pending p;
+      p.event = e;
+      queue_.push_back(std::move(p));
+    }
+    appended_ += events.size();
+  }
+  queue_cv_.notify_one();
+}
+
+void Store::append_checkpoint(std::int64_t run_id, std::uint64_t last_seq, std::int64_t step,
+                              std::string bytes) {
+  append_checkpoint(run_id, last_seq, step, std::make_shared<const std::string>(std::move(bytes)));
+}
+
+void Store::discard_waiting_checkpoint(std::int64_t run_id) {
+  Pending p;
+  p.is_checkpoint = true;
+  p.discard = true;
+  p.run_id = run_id;
+  {
+    std::lock_guard lock(queue_mutex_);
+    queue_.push_back(std::move(p));
+    ++appended_;
+  }
+  queue_cv_.notify_one();
+}
+
+void Store::append_checkpoint(std::int64_t run_id, std::uint64_t last_seq, std::int64_t step,
+                              std::shared_ptr<const std::string> bytes) {
+  Pending p;
+  p.is_checkpoint = true;
+  p.run_id = run_id;
+  p.last_seq = last_seq;
+  p.step = step;
+  p.checkpoint = std::move(bytes);
+  {
+    std::lock_guard lock(queue_mutex_);
+    queue_.push_back(std::move(p));
+    ++appended_;
+  }
+  queue_cv_.notify_one();
+}
+
+void Store::flush() {
+  std::unique_lock lock(queue_mutex_);
+  std::uint64_t target = appended_;
+  ++flush_waiters_;  // a held checkpoint is written now
+  queue_cv_.notify_one();
+  flushed_cv_.wait(lock, [&] { return committed_ >= target; });
+  --flush_waiters_;
+}
+
+// The writer's prepared statements, made once for its connection.
+struct Store::WriterStatements {
+  explicit WriterStatements(sqlite3* db)
+      : event_insert(db,
+                     "INSERT OR IGNORE INTO events(run_id, seq, kind, payload, id1, id2, tca_s, "
+                     "miss_distance_m, kappa, encounter_kind) VALUES(?, ?, ?, ?, ?, ?, ?, ?, ?, ?)"),
+        checkpoint_upsert(db,
+                          "INSERT INTO checkpoints(run_id, last_seq, step, bytes) VALUES(?, ?, ?, ?) "
+                          "ON CONFLICT(run_id) DO UPDATE SET last_seq = excluded.last_seq, "
+                          "step = excluded.step, bytes = excluded.bytes WHERE excluded.step >= "
+                          "checkpoints.step") {}
+  Statement event_insert;
+  Statement checkpoint_upsert;
+};
+
+void Store::writer_loop() {
+  using Clock = std::chrono::steady_clock;
+  WriterStatements statements(writer_db_);
+  std::vector<Pending> batch, to_write;
+  // The newest checkpoint of each run not yet written, and when each run's last one was written. A
+  // checkpoint waits until min_checkpoint_interval has passed since its run's last write (or a flush,
+  // or the end); a newer one arriving meanwhile replaces it, unwritten: only the latest per run is
+  // kept anyway, and a run resumed from an older one re-emits the same events.
+  std::map<std::int64_t, Pending> held;
+  std::map<std::int64_t, Clock::time_point> last_written;
+  auto due_at = [&](std::int64_t run_id) {
+    auto it = last_written.find(run_id);
+    return it == last_written.end() ? Clock::time_point::min() : it->second + min_checkpoint_interval_;
+  };
+  for (;;) {
+    bool force = false;
+    {
+      std::unique_lock lock(queue_mutex_);
+      auto ready = [&] { return stopping_ || !queue_.empty() || (!held.empty() && flush_waiters_ > 0); };
+      if (held.empty()) {
+        queue_cv_.wait(lock, ready);
+      } else {
+        auto next = Clock::time_point::max();
+        for (const auto& [run_id, p] : held) next = std::min(next, due_at(run_id));
+        queue_cv_.wait_until(lock, next, ready);
+      }
+      if (queue_.empty() && held.empty() && stopping_) return;
+      force = stopping_ || flush_waiters_ > 0;
+      // Up to 20,000 items per transaction: large enough to amortise the commit, small enough to
+      // keep the lag behind the simulation short.
+      std::size_t n = std::min<std::size_t>(queue_.size(), 20000);
+      batch.clear();
+      batch.reserve(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        batch.push_back(std::move(queue_.front()));
+        queue_.pop_front();
+      }
+      // Every item taken now is in the store's view of the queue: a flush waiting for it also
+      // waits for the checkpoints it holds.
+      if (queue_.empty() && flush_waiters_ > 0) force = true;
+    }
+    const double cpu0 = thread_cpu_s();
+    std::uint64_t done = 0;  // items committed or superseded by this pass
+    to_write.clear();
+    for (Pending& p : batch) {
+      if (!p.is_checkpoint) {
+        to_write.push_back(std::move(p));
+        continue;
+      }
+      auto it = held.find(p.run_id);
+      if (p.discard) {
+        if (it != held.end()) {
+          held.erase(it);
+          ++done;  // the dropped checkpoint
+        }
+        ++done;  // this item
+        continue;
+      }
+      if (it == held.end()) {
+        held.emplace(p.run_id, std::move(p));
+      } else {
+        if (p.step >= it->second.step) std::swap(it->second, p);
+        ++done;  // the older of the two is never written
+      }
+    }
+    const auto now = Clock::now();
+    for (auto it = held.begin(); it != held.end();) {
+      if (force || now >= due_at(it->first)) {
+        last_written[it->first] = now;
+        to_write.push_back(std::move(it->second));  // after the events before it
+        it = held.erase(it);
+      } else {
+        ++it;
+      }
+    }
+    if (!to_write.empty()) write_batch(to_write, statements);
+    done += to_write.size();
+    const double cpu = thread_cpu_s() - cpu0;
+    {
+      std::lock_guard lock(queue_mutex_);
+      committed_ += done;
+      writer_cpu_s_ += cpu;
+    }
+    flushed_cv_.notify_all();
+  }
+}
+
+void Store::write_batch(std::vector<Pending>& batch, WriterStatements& statements) {
+  sqlite3* db = writer_db_;
+  exec(db, "BEGIN IMMEDIATE");
+  Statement& event_insert = statements.event_insert;
+  Statement& checkpoint_upsert = statements.checkpoint_upsert;
+  std::string payload;
+  std::uint64_t written = 0;
+  for (Pending& p : batch) {
+    if (p.is_checkpoint) {
+      checkpoint_upsert.bind(1, p.run_id).bind(2, p.last_seq).bind(3, p.step).bind_blob(4, *p.checkpoint);
+      checkpoint_upsert.run();
+      continue;
+    }
+    const v1::RunEvent& e = *p.event;
+    int kind = e.has_progress() ? kKindProgress : e.has_encounter() ? kKindEncounter : kKindBurnUp;
+    payload.clear();
+    e.SerializeToString(&payload);
+    event_insert.bind(1, e.run_id()).bind(2, e.seq()).bind(3, kind).bind_blob(4, payload);
+    if (e.has_encounter()) {
+      const v1::Encounter& c = e.encounter();
+      event_insert.bind(5, c.id1()).bind(6, c.id2()).bind(7, c.tca_s()).bind(8, c.miss_distance_m());
+      event_insert.bind(9, c.kappa()).bind(10, static_cast<int>(c.kind()));
+    } else {
+      event_insert.bind_null(5).bind_null(6).bind_null(7).bind_null(8).bind_null(9).bind_null(10);
+    }
+    event_insert.run();
+    ++written;
+  }
+  exec(db, "COMMIT");
+  std::lock_guard lock(queue_mutex_);
+  events_written_ += written;
+}
+
+double Store::writer_cpu_s() const {
+  std::lock_guard lock(const_cast<std::mutex&>(queue_mutex_));
+  return writer_cpu_s_;
+}
+
+std::uint64_t Store::events_written() const {
+  std::lock_guard lock(const_cast<std::mutex&>(queue_mutex_));
+  return events_written_;
+}
+
+}  // namespace kessler::server
