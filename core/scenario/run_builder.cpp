@@ -4,12 +4,12 @@
 
 #include <exception>
 
+#include "core/catalog/bundled_datasets.hpp"
+#include "core/catalog/leo19647.hpp"
+#include "core/catalog/state_table.hpp"
+#include "core/catalog/synthetic.hpp"
 #include "core/conjunctions/detector.hpp"
 #include "core/integration/symplectic_propagator.hpp"
-#include "core/population/bundled_datasets.hpp"
-#include "core/population/leo19647.hpp"
-#include "core/population/state_table.hpp"
-#include "core/population/synthetic.hpp"
 #include "core/sgp4/sgp4_propagator.hpp"
 
 namespace kessler {

@@ -16,7 +16,7 @@
 
 #include <cstdio>
 
-#include "core/population/bundled_datasets.hpp"
+#include "core/catalog/bundled_datasets.hpp"
 
 namespace kessler {
 namespace {

@@ -16,10 +16,10 @@
 #include <string_view>
 #include <vector>
 
-#include "core/population/object_properties.hpp"
-#include "core/population/parse_problem.hpp"
+#include "core/catalog/object_properties.hpp"
+#include "core/catalog/parse_problem.hpp"
+#include "core/catalog/tle.hpp"
 #include "core/population/population.hpp"
-#include "core/population/tle.hpp"
 #include "core/sgp4/sgp4.hpp"
 #include "core/time/epoch.hpp"
 

@@ -1,4 +1,4 @@
-#include "core/population/ingest.hpp"
+#include "core/catalog/ingest.hpp"
 
 #include <algorithm>
 #include <array>
@@ -8,9 +8,9 @@
 #include <sstream>
 #include <unordered_set>
 
-#include "core/population/omm.hpp"
-#include "core/population/satcat.hpp"
-#include "core/population/text_fields.hpp"
+#include "core/catalog/omm.hpp"
+#include "core/catalog/satcat.hpp"
+#include "core/catalog/text_fields.hpp"
 #include "core/sgp4/wgs72.hpp"
 
 namespace kessler {

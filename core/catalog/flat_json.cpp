@@ -1,4 +1,4 @@
-#include "core/population/flat_json.hpp"
+#include "core/catalog/flat_json.hpp"
 
 #include <cctype>
 

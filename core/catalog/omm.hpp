@@ -7,8 +7,8 @@
 #include <string>
 #include <string_view>
 
-#include "core/population/parse_problem.hpp"
-#include "core/population/tle.hpp"
+#include "core/catalog/parse_problem.hpp"
+#include "core/catalog/tle.hpp"
 
 namespace kessler {
 

@@ -1,11 +1,11 @@
-#include "core/population/omm.hpp"
+#include "core/catalog/omm.hpp"
 
 #include <cctype>
 #include <cmath>
 
-#include "core/population/csv.hpp"
-#include "core/population/flat_json.hpp"
-#include "core/population/text_fields.hpp"
+#include "core/catalog/csv.hpp"
+#include "core/catalog/flat_json.hpp"
+#include "core/catalog/text_fields.hpp"
 
 namespace kessler {
 namespace {
