@@ -10,6 +10,7 @@ packages=(
   libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-format zlib1g-dev
+  libsimdjson-dev libpugixml-dev
 )
 
 missing=()

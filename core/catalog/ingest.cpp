@@ -74,6 +74,8 @@ const char* catalog_format_name(CatalogFormat f) {
       return "OMM JSON";
     case CatalogFormat::kOmmKvn:
       return "OMM KVN";
+    case CatalogFormat::kOmmXml:
+      return "OMM XML";
     default:
       return "detect";
   }
@@ -89,6 +91,8 @@ ElementSetText parse_catalog_text(std::string_view text, CatalogFormat format, c
       return parse_omm_json(text, source);
     case CatalogFormat::kOmmKvn:
       return parse_omm_kvn(text, source);
+    case CatalogFormat::kOmmXml:
+      return parse_omm_xml(text, source);
     default:
       return parse_tle_text(text, tle_options, source);
   }
