@@ -11,6 +11,7 @@
 #include "core/catalog/omm.hpp"
 #include "core/catalog/satcat.hpp"
 #include "core/catalog/text_fields.hpp"
+#include "core/integration/burn_up.hpp"
 #include "core/sgp4/wgs72.hpp"
 
 namespace kessler {
@@ -233,9 +234,17 @@ IngestResult ingest_catalog(const CatalogInput& input, const IngestRules& rules,
     }
   }
 
-  const std::vector<std::string> reasons = {
-      "docked",      "excluded name",        "object type",   "perigee below band", "apogee above band",
-      "SGP4 failed", "radius below minimum", "invalid state", "max objects"};
+  const std::vector<std::string> reasons = {"docked",
+                                            "excluded name",
+                                            "object type",
+                                            "perigee below band",
+                                            "apogee above band",
+                                            "SGP4 failed",
+                                            "decayed before the start",
+                                            "radius below minimum",
+                                            "invalid state",
+                                            "max objects"};
+  const double burn_up_r2 = burn_up_radius2(rules.burn_up_altitude_km * 1e3);
   std::map<std::string, std::size_t> filtered;
   for (std::size_t i = 0; i < n; ++i) {
     const MeanElements& el = sets[i].elements;
@@ -276,6 +285,12 @@ IngestResult ingest_catalog(const CatalogInput& input, const IngestRules& rules,
     if (states[i].error != Sgp4Error::kNone) {
       ++filtered["SGP4 failed"];
       report.propagation_failures.push_back({id, sgp4_error_text(states[i].error)});
+      continue;
+    }
+    // In metres, as the population will hold it, so that this is the simulation's own burn-up test.
+    const auto& r_km = states[i].position_km;
+    if (burns_up(r_km[0] * 1000.0, r_km[1] * 1000.0, r_km[2] * 1000.0, burn_up_r2)) {
+      ++filtered["decayed before the start"];
       continue;
     }
 
