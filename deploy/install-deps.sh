@@ -10,6 +10,7 @@ packages=(
   libyaml-cpp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-format zlib1g-dev libssl-dev
+  libsimdjson-dev libpugixml-dev
 )
 
 missing=()

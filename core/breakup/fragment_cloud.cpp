@@ -8,7 +8,7 @@
 #include "core/breakup/ejection_velocity.hpp"
 #include "core/breakup/energy_and_count.hpp"
 #include "core/breakup/size_distribution.hpp"
-#include "core/population/counter_random.hpp"
+#include "core/random/counter_random.hpp"
 
 namespace kessler {
 namespace {

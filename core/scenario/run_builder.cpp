@@ -6,12 +6,13 @@
 #include <map>
 #include <set>
 
+#include "core/catalog/bundled_datasets.hpp"
+#include "core/catalog/leo19647.hpp"
+#include "core/catalog/state_table.hpp"
+#include "core/catalog/synthetic.hpp"
 #include "core/conjunctions/detector.hpp"
 #include "core/integration/symplectic_propagator.hpp"
-#include "core/population/bundled_datasets.hpp"
-#include "core/population/leo19647.hpp"
-#include "core/population/state_table.hpp"
-#include "core/population/synthetic.hpp"
+#include "core/scenario/scenario_defaults.hpp"
 #include "core/sgp4/sgp4_propagator.hpp"
 
 namespace kessler {
@@ -43,6 +44,15 @@ IngestRules ingest_rules_of(const v1::PopulationSource& source) {
   if (r.has_large_radius_mean_m()) rules.sizes.large.mean_m = r.large_radius_mean_m();
   if (r.has_large_radius_stddev_m()) rules.sizes.large.stddev_m = r.large_radius_stddev_m();
   rules.max_objects = source.has_max_objects() ? source.max_objects() : 0;
+  return rules;
+}
+
+// Catalog ingests also leave out objects already below the scenario's burn-up altitude at the start (the
+// same km value the simulation's configuration scales to metres).
+IngestRules catalog_rules_of(const v1::Scenario& scenario) {
+  IngestRules rules = ingest_rules_of(scenario.population());
+  rules.burn_up_altitude_km = scenario.has_burn_up_altitude_km() ? scenario.burn_up_altitude_km()
+                                                                 : scenario_defaults::kBurnUpAltitudeKm;
   return rules;
 }
 
@@ -91,7 +101,7 @@ std::optional<FieldError> load_population(const v1::Scenario& scenario, const Si
       std::string why;
       auto input = load_bundled_catalog(source.dataset(), options.datasets_dir, &why);
       if (!input) return FieldError{"population.dataset", why};
-      return take(ingest_catalog(*input, ingest_rules_of(source), config.start_epoch, config.seed),
+      return take(ingest_catalog(*input, catalog_rules_of(scenario), config.start_epoch, config.seed),
                   "population.dataset", out);
     }
     case v1::PopulationSource::kCatalog: {
@@ -103,7 +113,7 @@ std::optional<FieldError> load_population(const v1::Scenario& scenario, const Si
       input.satcat_source = "population.catalog.satcat_csv";
       input.active_list = source.catalog().active_list();
       input.active_list_source = "population.catalog.active_list";
-      return take(ingest_catalog(input, ingest_rules_of(source), config.start_epoch, config.seed),
+      return take(ingest_catalog(input, catalog_rules_of(scenario), config.start_epoch, config.seed),
                   "population.catalog", out);
     }
     case v1::PopulationSource::kSynthetic: {

@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/population/ingest.hpp"
+#include "core/catalog/ingest.hpp"
 #include "core/simulation/simulation.hpp"
 #include "kessler/v1/scenario.pb.h"
 

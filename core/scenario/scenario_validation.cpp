@@ -4,7 +4,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "core/population/leo19647.hpp"
+#include "core/catalog/leo19647.hpp"
 #include "core/scenario/run_builder.hpp"
 #include "core/scenario/scenario_defaults.hpp"
 

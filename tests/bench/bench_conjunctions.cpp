@@ -12,10 +12,10 @@
 #include <cstdio>
 #include <iostream>
 
+#include "core/catalog/leo19647.hpp"
 #include "core/conjunctions/detector.hpp"
 #include "core/integration/burn_up.hpp"
 #include "core/integration/symplectic_propagator.hpp"
-#include "core/population/leo19647.hpp"
 #include "core/simulation/steps_in_flight.hpp"
 #include "tests/bench/bench.hpp"
 

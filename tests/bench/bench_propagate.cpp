@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <iostream>
 
+#include "core/catalog/leo19647.hpp"
 #include "core/integration/symplectic_propagator.hpp"
-#include "core/population/leo19647.hpp"
 #include "tests/bench/bench.hpp"
 
 namespace kessler::bench {

@@ -25,13 +25,13 @@
 #include <string>
 #include <utility>
 
+#include "core/catalog/bundled_datasets.hpp"
+#include "core/catalog/ingest.hpp"
+#include "core/catalog/leo19647.hpp"
+#include "core/catalog/synthetic.hpp"
 #include "core/conjunctions/detector.hpp"
 #include "core/integration/symplectic_propagator.hpp"
 #include "core/integration/team_timeline.hpp"
-#include "core/population/bundled_datasets.hpp"
-#include "core/population/ingest.hpp"
-#include "core/population/leo19647.hpp"
-#include "core/population/synthetic.hpp"
 #include "core/simulation/simulation.hpp"
 #include "core/simulation/simulation_parts.hpp"
 #include "tests/bench/bench.hpp"

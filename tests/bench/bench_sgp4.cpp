@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "core/population/bundled_datasets.hpp"
+#include "core/catalog/bundled_datasets.hpp"
 #include "core/sgp4/sgp4_batch.hpp"
 #include "tests/bench/bench.hpp"
 

@@ -3,10 +3,10 @@
 
 #include <cstring>
 
+#include "core/catalog/leo19647.hpp"
 #include "core/integration/burn_up.hpp"
 #include "core/integration/symplectic_propagator.hpp"
 #include "core/physics/gravity.hpp"
-#include "core/population/leo19647.hpp"
 
 namespace kessler {
 namespace {

@@ -7,9 +7,9 @@
 #include <limits>
 #include <numbers>
 
+#include "core/catalog/leo19647.hpp"
 #include "core/integration/burn_up.hpp"
 #include "core/integration/symplectic_propagator.hpp"
-#include "core/population/leo19647.hpp"
 
 namespace kessler {
 namespace {

@@ -10,12 +10,12 @@
 #include <fstream>
 #include <sstream>
 
-#include "core/population/ingest.hpp"
-#include "core/population/object_properties.hpp"
-#include "core/population/omm.hpp"
-#include "core/population/satcat.hpp"
-#include "core/population/text_fields.hpp"
-#include "core/population/tle.hpp"
+#include "core/catalog/ingest.hpp"
+#include "core/catalog/object_properties.hpp"
+#include "core/catalog/omm.hpp"
+#include "core/catalog/satcat.hpp"
+#include "core/catalog/text_fields.hpp"
+#include "core/catalog/tle.hpp"
 
 namespace kessler {
 namespace {

@@ -67,7 +67,8 @@ with open(ROOT + '2026-03-10_celestrak_active_gp.csv', newline='') as f:
 
 records = bad = 0
 seen_sets = set()
-counts = dict.fromkeys(['docked', 'excluded name', 'perigee below band', 'apogee above band', 'SGP4 failed'], 0)
+counts = dict.fromkeys(['docked', 'excluded name', 'perigee below band', 'apogee above band', 'SGP4 failed',
+                        'decayed before the start'], 0)
 jd, fr = jday(2022, 1, 1, 0, 0, 0)
 kept = {'active': [], 'passive': []}
 samples = {}
@@ -96,6 +97,9 @@ for i in range(0, len(lines), 3):
     e, r, v = sat.sgp4(jd, fr)
     if e != 0:
         counts['SGP4 failed'] += 1
+        continue
+    if math.sqrt(sum(x * x for x in r)) * 1000.0 < 6378137.0 + 150e3:  # the simulation's burn-up test
+        counts['decayed before the start'] += 1
         continue
     oid = sat.satnum
     size = satcat.get(oid, {}).get('RCS_SIZE', '')

@@ -5,9 +5,9 @@
 
 #include <cmath>
 
+#include "core/catalog/state_table.hpp"
+#include "core/catalog/synthetic.hpp"
 #include "core/physics/constants.hpp"
-#include "core/population/state_table.hpp"
-#include "core/population/synthetic.hpp"
 
 namespace kessler {
 namespace {

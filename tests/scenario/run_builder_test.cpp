@@ -177,6 +177,33 @@ conjunctions: {screening_distance_km: 1}
   EXPECT_LT(sink.seen[0].miss_distance_m, 100.0);
 }
 
+// A debris fragment whose element set (2022-01-14) is older than its decay: SGP4 puts it at ~20 km at the
+// start. It leaves at ingest under the scenario's burn-up altitude instead of burning up at the first step.
+TEST(RunBuilder, ObjectsDecayedBeforeTheStartLeaveAtIngest) {
+  const std::string catalog = R"(
+start_epoch: 2022-01-22T00:00:00Z
+population:
+  catalog:
+    format: tle
+    text: |
+      0 COSMOS 1408 DEB
+      1 50282U 82092YX  22014.57637332  .04559140  00000-0  36701+0 0  9997
+      2 50282  81.8160  62.2954 0168097 258.3864  99.8441 14.85036373  7662
+      0 NOAA 20
+      1 43013U 17073A   22022.53093932  .00000030  00000-0  34940-4 0  9998
+      2 43013  98.7439 323.0548 0001454  96.5825 263.5517 14.19525157216522
+)";
+  for (const auto& [extra, objects] : {std::pair{"", 1u}, std::pair{"burn_up_altitude_km: 10\n", 2u}}) {
+    v1::Scenario s;
+    ASSERT_FALSE(parse_scenario(catalog + extra, s));
+    FieldError error;
+    auto sim = build_simulation(s, BuildOptions{}, &error);
+    ASSERT_TRUE(sim) << error.message();
+    EXPECT_EQ(sim->population().size(), objects) << extra;
+    EXPECT_TRUE(sim->population().index_of(43013)) << extra;
+  }
+}
+
 TEST(RunBuilder, BadScenariosAreRefusedBeforeAnythingRuns) {
   struct Bad {
     const char* text;

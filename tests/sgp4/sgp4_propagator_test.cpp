@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "core/population/bundled_datasets.hpp"
-#include "core/population/tle.hpp"
+#include "core/catalog/bundled_datasets.hpp"
+#include "core/catalog/tle.hpp"
 #include "core/sgp4/sgp4_propagator.hpp"
 
 namespace kessler {

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "core/population/text_fields.hpp"
-#include "core/population/tle.hpp"
+#include "core/catalog/text_fields.hpp"
+#include "core/catalog/tle.hpp"
 #include "core/sgp4/sgp4.hpp"
 #include "core/sgp4/sgp4_batch.hpp"
 

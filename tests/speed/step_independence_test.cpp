@@ -17,9 +17,9 @@
 #include <utility>
 #include <vector>
 
+#include "core/catalog/leo19647.hpp"
+#include "core/catalog/synthetic.hpp"
 #include "core/integration/symplectic_propagator.hpp"
-#include "core/population/leo19647.hpp"
-#include "core/population/synthetic.hpp"
 #include "core/simulation/simulation.hpp"
 
 namespace kessler {

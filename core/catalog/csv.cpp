@@ -1,6 +1,6 @@
-#include "core/population/csv.hpp"
+#include "core/catalog/csv.hpp"
 
-#include "core/population/text_fields.hpp"
+#include "core/catalog/text_fields.hpp"
 
 namespace kessler {
 

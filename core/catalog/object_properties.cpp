@@ -1,10 +1,10 @@
-#include "core/population/object_properties.hpp"
+#include "core/catalog/object_properties.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 #include "core/physics/constants.hpp"
-#include "core/population/counter_random.hpp"
+#include "core/random/counter_random.hpp"
 
 namespace kessler {
 

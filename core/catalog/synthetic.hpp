@@ -6,7 +6,7 @@
 
 #include <cstdint>
 
-#include "core/population/object_properties.hpp"
+#include "core/catalog/object_properties.hpp"
 #include "core/population/population.hpp"
 
 namespace kessler {

@@ -1,8 +1,8 @@
-#include "core/population/tle.hpp"
+#include "core/catalog/tle.hpp"
 
 #include <cmath>
 
-#include "core/population/text_fields.hpp"
+#include "core/catalog/text_fields.hpp"
 
 namespace kessler {
 namespace {

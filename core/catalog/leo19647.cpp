@@ -1,4 +1,4 @@
-#include "core/population/leo19647.hpp"
+#include "core/catalog/leo19647.hpp"
 
 #include <cerrno>
 #include <cmath>

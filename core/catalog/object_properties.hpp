@@ -5,7 +5,7 @@
 
 #include <cstdint>
 
-#include "core/population/satcat.hpp"
+#include "core/catalog/satcat.hpp"
 
 namespace kessler {
 

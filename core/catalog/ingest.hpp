@@ -4,7 +4,8 @@
 //      element sets whose epoch lies more than max_epoch_after_start_days after the start are rejected;
 //   2. filters, each object counted under the first it fails: excluded name (paper: ISS, Starlink,
 //      OneWeb), object type, perigee/apogee altitude band of the mean elements (175..2000 km);
-//   3. SGP4 to the start epoch (TEME); objects SGP4 cannot bring there are reported and left out;
+//   3. SGP4 to the start epoch (TEME); objects SGP4 cannot bring there are reported and left out, and so
+//      are objects already below the burn-up altitude there (element sets older than their decay);
 //   4. radius sqrt(RCS/pi) or sampled per RCS class (never below 5 mm), mass law, Cd A/m from BSTAR
 //      (B* > 0) else Cd = 2.2 with pi r^2 / m, SRP A/m = pi r^2 / m; status active when the SATCAT
 //      operational status is + P B S X or the object is on the active list.
@@ -16,10 +17,10 @@
 #include <string_view>
 #include <vector>
 
-#include "core/population/object_properties.hpp"
-#include "core/population/parse_problem.hpp"
+#include "core/catalog/object_properties.hpp"
+#include "core/catalog/parse_problem.hpp"
+#include "core/catalog/tle.hpp"
 #include "core/population/population.hpp"
-#include "core/population/tle.hpp"
 #include "core/sgp4/sgp4.hpp"
 #include "core/time/epoch.hpp"
 
@@ -64,6 +65,10 @@ struct IngestRules {
   // at the same point and "collide" once per orbit. Drop every element set identical (epoch and all mean
   // elements) to an earlier record's, reported as "docked".
   bool drop_docked = true;
+  // Objects whose SGP4 position at the start epoch is already below this altitude [km] over the
+  // equatorial radius (the simulation's burn-up test, burns_up) have decayed before the start: left out
+  // as "decayed before the start" instead of burning up at the first step. The scenario's burn-up altitude.
+  double burn_up_altitude_km = 150.0;
   // Keep at most this many objects, in catalog order (0: all).
   std::uint64_t max_objects = 0;
 
@@ -90,7 +95,9 @@ struct IngestReport {
   std::vector<ParseProblem> rejections;
   std::map<std::string, std::size_t> rejected_by_reason;
   // Accepted element sets left out by the rules, by reason (each object counted once, under the first
-  // rule it fails), and the objects SGP4 could not bring to the start epoch.
+  // rule it fails), and the objects SGP4 could not bring to the start epoch (also counted in
+  // filtered_by_reason, as "SGP4 failed" or "invalid state"). Hence
+  //   records == kept + rejected + the sum of filtered_by_reason.
   std::vector<std::pair<std::string, std::size_t>> filtered_by_reason;
   std::vector<std::pair<ObjectId, std::string>> propagation_failures;
   std::size_t kept = 0, active = 0, passive = 0;

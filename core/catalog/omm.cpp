@@ -1,11 +1,9 @@
-#include "core/population/omm.hpp"
+#include "core/catalog/omm.hpp"
 
-#include <cctype>
 #include <cmath>
 
-#include "core/population/csv.hpp"
-#include "core/population/flat_json.hpp"
-#include "core/population/text_fields.hpp"
+#include "core/catalog/csv.hpp"
+#include "core/catalog/text_fields.hpp"
 
 namespace kessler {
 namespace {
@@ -29,8 +27,10 @@ void add_problem(ElementSetText& out, const std::string& source, std::size_t lin
   out.problems.push_back(std::move(p));
 }
 
-void add_fields(ElementSetText& out, const std::string& source, std::size_t line,
-                const std::map<std::string, std::string>& fields) {
+}  // namespace
+
+void add_omm_fields(ElementSetText& out, const std::string& source, std::size_t line,
+                    const std::map<std::string, std::string>& fields) {
   ParseProblem problem;
   if (auto el = elements_from_omm_fields(fields, &problem)) {
     out.sets.push_back({std::move(*el), line});
@@ -40,8 +40,6 @@ void add_fields(ElementSetText& out, const std::string& source, std::size_t line
     add_problem(out, source, line, std::move(problem));
   }
 }
-
-}  // namespace
 
 std::optional<UtcEpoch> parse_omm_epoch(std::string_view text, std::string* error) {
   std::string_view s = text::trim(text);
@@ -169,25 +167,7 @@ ElementSetText parse_omm_csv(std::string_view text, const std::string& source) {
     }
     std::map<std::string, std::string> fields;
     for (std::size_t c = 0; c < row.fields.size(); ++c) fields[table.header[c]] = row.fields[c];
-    add_fields(out, source, row.line, fields);
-  }
-  return out;
-}
-
-ElementSetText parse_omm_json(std::string_view text, const std::string& source) {
-  ElementSetText out;
-  std::vector<FlatJsonObject> objects;
-  std::string error;
-  if (!parse_flat_json(text, objects, &error)) {
-    std::size_t line = 0;
-    if (error.rfind("line ", 0) == 0) line = std::strtoul(error.c_str() + 5, nullptr, 10);
-    add_problem(out, source, line, {"", 0, "json", "not OMM JSON: " + error});
-    return out;
-  }
-  for (const auto& obj : objects) {
-    std::map<std::string, std::string> fields;
-    for (const auto& [k, v] : obj.values) fields[text::upper(k)] = v;
-    add_fields(out, source, obj.line, fields);
+    add_omm_fields(out, source, row.line, fields);
   }
   return out;
 }
@@ -197,7 +177,7 @@ ElementSetText parse_omm_kvn(std::string_view text, const std::string& source) {
   std::map<std::string, std::string> fields;
   std::size_t message_line = 0, line_no = 0;
   auto flush = [&]() {
-    if (!fields.empty()) add_fields(out, source, message_line, fields);
+    if (!fields.empty()) add_omm_fields(out, source, message_line, fields);
     fields.clear();
   };
   for (std::string_view raw : text::split_lines(text)) {
@@ -214,54 +194,6 @@ ElementSetText parse_omm_kvn(std::string_view text, const std::string& source) {
     }
     if (message_line == 0) message_line = line_no;
     fields[key] = value;
-  }
-  flush();
-  return out;
-}
-
-ElementSetText parse_omm_xml(std::string_view text, const std::string& source) {
-  ElementSetText out;
-  std::map<std::string, std::string> fields;
-  std::size_t message_line = 0, line = 1, counted_to = 0;
-  bool in_message = false;
-  auto line_at = [&](std::size_t pos) {
-    for (; counted_to < pos && counted_to < text.size(); ++counted_to)
-      if (text[counted_to] == '\n') ++line;
-    return line;
-  };
-  auto flush = [&]() {
-    if (in_message) add_fields(out, source, message_line, fields);
-    fields.clear();
-    in_message = false;
-  };
-  std::size_t pos = 0;
-  while ((pos = text.find('<', pos)) != std::string_view::npos) {
-    const std::size_t close = text.find('>', pos);
-    if (close == std::string_view::npos) break;
-    const char first = pos + 1 < text.size() ? text[pos + 1] : '\0';
-    if (first == '/' || first == '?' || first == '!' || text[close - 1] == '/') {
-      pos = close + 1;  // end tag, declaration, comment or empty element
-      continue;
-    }
-    std::size_t name_end = pos + 1;
-    while (name_end < close && !std::isspace(static_cast<unsigned char>(text[name_end]))) ++name_end;
-    const std::string name(text.substr(pos + 1, name_end - pos - 1));
-    if (name == "omm") {
-      flush();
-      in_message = true;
-      message_line = line_at(pos);
-      pos = close + 1;
-      continue;
-    }
-    // A leaf: <NAME ...>value</NAME> with no markup inside.
-    const std::size_t value_end = text.find('<', close + 1);
-    if (value_end != std::string_view::npos && text.substr(value_end, name.size() + 2) == "</" + name) {
-      if (in_message)
-        fields[text::upper(name)] = std::string(text::trim(text.substr(close + 1, value_end - close - 1)));
-      pos = value_end;
-      continue;
-    }
-    pos = close + 1;
   }
   flush();
   return out;

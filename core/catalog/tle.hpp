@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/population/parse_problem.hpp"
+#include "core/catalog/parse_problem.hpp"
 #include "core/sgp4/mean_elements.hpp"
 
 namespace kessler {

@@ -26,4 +26,21 @@ bool parse_implied_decimal(std::string_view field, double& value, std::string* r
 // Upper-case copy (ASCII).
 std::string upper(std::string_view s);
 
+// 1-based line numbers of byte offsets into a text, asked in increasing order: each call counts on from
+// the last, so numbering a whole catalog's records costs one pass (an earlier offset gets the last line).
+class LineCounter {
+ public:
+  LineCounter(const char* text, std::size_t size) : text_(text), size_(size) {}
+  std::size_t line_at(std::size_t offset) {
+    const std::size_t end = offset < size_ ? offset : size_;
+    for (; counted_to_ < end; ++counted_to_) line_ += text_[counted_to_] == '\n';
+    return line_;
+  }
+
+ private:
+  const char* text_;
+  std::size_t size_;
+  std::size_t counted_to_ = 0, line_ = 1;
+};
+
 }  // namespace kessler::text

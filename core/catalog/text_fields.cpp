@@ -1,4 +1,4 @@
-#include "core/population/text_fields.hpp"
+#include "core/catalog/text_fields.hpp"
 
 #include <cctype>
 #include <charconv>

@@ -13,7 +13,7 @@
 #include <unordered_set>
 #include <vector>
 
-#include "core/population/parse_problem.hpp"
+#include "core/catalog/parse_problem.hpp"
 #include "core/population/population.hpp"
 
 namespace kessler {

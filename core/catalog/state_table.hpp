@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-#include "core/population/ingest.hpp"
+#include "core/catalog/ingest.hpp"
 
 namespace kessler {
 

@@ -1,11 +1,11 @@
-#include "core/population/satcat.hpp"
+#include "core/catalog/satcat.hpp"
 
 #include <zlib.h>
 
-#include "core/population/csv.hpp"
-#include "core/population/omm.hpp"
-#include "core/population/text_fields.hpp"
-#include "core/population/tle.hpp"
+#include "core/catalog/csv.hpp"
+#include "core/catalog/omm.hpp"
+#include "core/catalog/text_fields.hpp"
+#include "core/catalog/tle.hpp"
 
 namespace kessler {
 namespace {

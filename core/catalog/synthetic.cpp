@@ -1,4 +1,4 @@
-#include "core/population/synthetic.hpp"
+#include "core/catalog/synthetic.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <string>
 
 #include "core/physics/constants.hpp"
-#include "core/population/counter_random.hpp"
+#include "core/random/counter_random.hpp"
 
 namespace kessler {
 namespace {

@@ -1,10 +1,10 @@
-#include "core/population/state_table.hpp"
+#include "core/catalog/state_table.hpp"
 
 #include <cmath>
 #include <unordered_set>
 
-#include "core/population/csv.hpp"
-#include "core/population/text_fields.hpp"
+#include "core/catalog/csv.hpp"
+#include "core/catalog/text_fields.hpp"
 
 namespace kessler {
 

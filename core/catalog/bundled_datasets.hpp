@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-#include "core/population/ingest.hpp"
+#include "core/catalog/ingest.hpp"
 
 namespace kessler {
 

@@ -1,8 +1,8 @@
-#include "core/population/bundled_datasets.hpp"
+#include "core/catalog/bundled_datasets.hpp"
 
 #include <cstdlib>
 
-#include "core/population/satcat.hpp"
+#include "core/catalog/satcat.hpp"
 
 namespace kessler {
 
