@@ -240,9 +240,9 @@ RunSummary Simulation::run(EventSink& sink, RunControl& control) {
   // the scanner offers copies; else one at a time.
   std::unique_ptr<StepsInFlight> flight;
   if (s.parts.scanner)
-    flight =
-        std::make_unique<StepsInFlight>(*s.parts.scanner, static_cast<std::size_t>(cfg.scan_steps_at_once),
-                                        s.population.size(), static_cast<std::size_t>(omp_get_max_threads()));
+    flight = std::make_unique<StepsInFlight>(
+        *s.parts.scanner, static_cast<std::size_t>(cfg.scan_steps_at_once), s.population.size(),
+        static_cast<std::size_t>(omp_get_max_threads()), s.parts.timelines);
   std::vector<std::vector<Encounter>> encounters;  // per step of the batch
   std::vector<BurnUp> burned;
 
