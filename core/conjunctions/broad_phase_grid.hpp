@@ -174,7 +174,7 @@ class BroadPhaseGrid {
       }
     }
     // More than one box hit per 4 groups: then filtering every group costs less than the branches'
-    // misses (the same at 2 or 8, measured at 40,000 and 80,000 objects).
+    // misses.
     bool dense() const { return 4 * hits_found > groups_tested; }
   };
 
@@ -235,7 +235,7 @@ class BroadPhaseGrid {
                  std::size_t begin, std::size_t end);
   // With several regions, after key_boxes: each bucket's region, and a ghosted box's mark
   // (grid::kGhostRegionShift). A loop of its own: inside the key loop this work left too few vector
-  // registers, and it spilled (2 regions on one thread: 0.5 ns more per object than one region).
+  // registers, and it spilled.
   // kBorders: the borders between regions it need look at.
   template <std::size_t kBorders>
   void add_regions(const grid::RegionMap& regions, std::size_t begin, std::size_t end);

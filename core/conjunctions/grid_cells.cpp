@@ -27,9 +27,7 @@ constexpr double kCellShrinkRatio = 1.05;
 // last build held fewer than kSparseObjectsPerCell objects per occupied cell, and shrinks back (never
 // below the largest box) above kDenseObjectsPerCell. The walk's cost per object is a few neighbour-row
 // lookups plus 16-lane box tests over the rows' slots, so a cell holding one or two objects pays the
-// lookups for almost no tests (on one thread, leo-19647 at kappa 10 walked 1.6x faster with ~6 objects
-// per cell than with 1.4; 320,000 objects, 5.3 per cell at the box edge, were slower with any larger
-// cell).
+// lookups for almost no tests; much fuller cells pay for tests of boxes too far apart to meet.
 constexpr double kSparseObjectsPerCell = 4.0, kDenseObjectsPerCell = 8.0;
 constexpr double kCoarseningStep = 1.25, kMaxCoarsening = 16.0;
 // With several regions, each keeps at least this many cell columns (the borders fall on column edges:
@@ -192,8 +190,7 @@ void BroadPhaseGrid::guess_next_cell(double cell_m, double column_m, double larg
   const double wanted = needed * coarsening_;
   // With several regions the columns stay narrow enough for each region to keep a few (the borders
   // fall on column edges), and only y and z coarsen past that: the cells' volume, and so the objects
-  // per cell the walk wants, no longer shrinks as the team grows (at 16 threads, leo-19647's cells
-  // were held at the largest box edge, 1.4 objects each, and the walk took 1.9x one thread's share).
+  // per cell the walk wants, no longer shrinks as the team grows.
   double wanted_column = wanted;
   if (regions_ > 1) {
     // The central 99 % of the lower x corners, from this build's bins.

@@ -24,9 +24,9 @@ namespace kessler {
 namespace {
 
 // counts[0, size) replaced by their running sum from `first` (the sum of those before each, plus first).
-// With AVX-512, 16 at a time (a scan in a register: 4 shifted adds), where the one-at-a-time loop's
-// chain of dependent adds took ~6 % of the build; the sort's partitions hold a multiple of 64 buckets,
-// so the scalar loop after it only serves other machines.
+// With AVX-512, 16 at a time (a scan in a register: 4 shifted adds), since the one-at-a-time loop is a
+// long chain of dependent adds; the sort's partitions hold a multiple of 64 buckets, so the scalar loop
+// after it only serves other machines.
 void exclusive_prefix_sum(std::uint32_t* counts, std::size_t size, std::uint32_t first) {
   std::size_t f = 0;
 #ifdef __AVX512F__

@@ -160,7 +160,7 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, std::size_t first, std::size
   // 16 box tests at once into a mask register (ordered compares: false with NaN, as the portable test
   // below); slots past `last` are read (the arrays are padded) and masked off (they may be another
   // region's, which its sort may be writing meanwhile: no result depends on their lanes). Even a range of one
-  // or two slots is cheaper this way than one slot at a time (20k objects: 134 -> 127 ns per object-step).
+  // or two slots is cheaper this way than one slot at a time.
   static_assert(kLanes == 16);
   const __m512 lo0_a = _mm512_set1_ps(a_lo0), lo1_a = _mm512_set1_ps(a_lo1), lo2_a = _mm512_set1_ps(a_lo2);
   const __m512 hi0_a = _mm512_set1_ps(a_hi0), hi1_a = _mm512_set1_ps(a_hi1), hi2_a = _mm512_set1_ps(a_hi2);
@@ -169,15 +169,14 @@ void BroadPhaseGrid::pair_with_slots(std::size_t k, std::size_t first, std::size
   const __m512i key_lo_lanes = _mm512_set1_epi64(static_cast<long long>(key_lo));
   const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   // The chord filter's cheap float version on the group's lanes, against slot k's line (see
-  // chords_may_come_within_float): nearly every box hit fails it (at 320,000 objects, 2.5 box hits per
-  // object and step, of which 1 in 1,000 is kept), so only its survivors go to the batch, where the
-  // double filter decides.
+  // chords_may_come_within_float): nearly every box hit fails it, so only its survivors go to the batch,
+  // where the double filter decides.
   const std::uint32_t* chord = slot_chord_.data();
   const std::uint32_t word_a = chord[k];
   // Slot k's line, without a branch (its direction bits are random): where the filter runs on every
   // group, once; elsewhere only for the groups that hit, which are few.
-  // (Both lambdas are forced inline: outlined, as GCC did once the walk's caller grew, they read the
-  // broadcast registers through memory and the walk ran 16 % slower.)
+  // (Both lambdas are forced inline: outlined, as GCC may do, they read the broadcast registers through
+  // memory, and the walk slows down markedly. For the same reason this function is not split further.)
   __m512 start_a[3], end_a[3];
   auto self_line = [&]() __attribute__((always_inline)) {
     const __m512 lo_a[3] = {lo0_a, lo1_a, lo2_a}, hi_a[3] = {hi0_a, hi1_a, hi2_a};
