@@ -1,8 +1,7 @@
-// Broad phase: a hashed grid of swept boxes, rebuilt every step in O(N), that yields every pair of
-// objects which can come within its threshold at any moment of the step, and few others. Why it is
-// built this way (the cutoff, regions of space, the sort, the walk's pruning and filters):
-// core/conjunctions/README.md. Its phases: grid_boxes.cpp, grid_cells.cpp, grid_sort.cpp,
-// grid_balance.cpp, grid_walk.cpp.
+// Broad phase: a grid of swept boxes, rebuilt every step in O(N), that yields every pair of objects
+// which can come within its threshold during the step, and few others. Why it is built this way:
+// core/conjunctions/README.md. One file per phase: grid_boxes, grid_cells, grid_sort, grid_balance,
+// grid_walk (.cpp, with the shared declarations in grid_boxes/cells/balance.hpp).
 #pragma once
 
 #include <atomic>
