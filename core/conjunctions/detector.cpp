@@ -13,7 +13,7 @@
 #include "core/conjunctions/narrow_phase_hermite.hpp"
 #include "core/conjunctions/narrow_phase_linear.hpp"
 #include "core/conjunctions/pair_rules.hpp"
-#include "core/integration/team_timeline.hpp"
+#include "core/parallel/team_timeline.hpp"
 
 namespace kessler {
 namespace {
@@ -42,7 +42,8 @@ void wait_until(Done done) {
 
 }  // namespace
 
-ConjunctionDetector::ConjunctionDetector(const ConjunctionSettings& settings) : settings_(settings) {
+ConjunctionDetector::ConjunctionDetector(const ConjunctionSettings& settings, const GridSettings& grid)
+    : settings_(settings), grid_(grid) {
   // dt is not known here; any positive step checks everything else.
   if (auto problem = validate(settings, 1.0)) throw std::invalid_argument(*problem);
 }
@@ -129,12 +130,12 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
   for (WalkCursor& cursor : walk_cursors_) cursor.claimed.store(0, std::memory_order_relaxed);
   // One region per step: the grid (one barrier inside), then each thread collects its share of
   // candidate pairs into its own compact array and runs the narrow phase on them, with no barrier.
-  TeamTimeline& timeline = detector_timeline();
-  timeline.region_start(static_cast<std::size_t>(threads));
+  TeamTimeline* const timeline = step.timeline;
+  if (timeline) timeline->region_start(static_cast<std::size_t>(threads));
 #pragma omp parallel num_threads(threads)
   {
     const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
-    timeline.enter(t);
+    if (timeline) timeline->enter(t);
     grid_.build_in_team(step, settings_.narrow_phase, share, max_motion_m, use_hulls);
     std::vector<CandidatePair>& mine = per_thread_[t].candidates;
     // The walk: each thread first walks the slots it sorted (its region of space, whose neighbour
@@ -181,7 +182,7 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
     for (std::int64_t o = 0; o < oversized; ++o)
       grid_.collect_oversized_pairs(static_cast<std::size_t>(o), static_cast<std::size_t>(o) + 1, mine);
     per_thread_[t].collected_at = omp_get_wtime();
-    timeline.mark(t, kDetWalk);
+    if (timeline) timeline->mark(t, kDetWalk);
     std::vector<Encounter>& found = per_thread_[t].events;
     if (use_hulls) {
       // The hulls first (one cache line per object, at two random places in memory: ask for a pair's
@@ -198,9 +199,9 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
     } else {
       for (const CandidatePair& pair : mine) examine_pair(population, step, pair.i, pair.j, found);
     }
-    timeline.mark(t, kDetNarrow);
+    if (timeline) timeline->mark(t, kDetNarrow);
   }
-  timeline.region_end();
+  if (timeline) timeline->region_end();
   double t_grid = t_begin;
   std::size_t total = 0, pairs = 0;
   for (const ThreadLists& lists : per_thread_) {

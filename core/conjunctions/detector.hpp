@@ -10,14 +10,16 @@
 
 #include "core/conjunctions/broad_phase_grid.hpp"
 #include "core/conjunctions/encounter.hpp"
-#include "core/conjunctions/walk_sharing.hpp"
 #include "core/integration/propagator.hpp"
+#include "core/parallel/walk_sharing.hpp"
 
 namespace kessler {
 
 class ConjunctionDetector {
  public:
-  explicit ConjunctionDetector(const ConjunctionSettings& settings);
+  // grid: how the broad phase shares out its work (benchmarks time other regions of space); it never
+  // changes the encounters.
+  explicit ConjunctionDetector(const ConjunctionSettings& settings, const GridSettings& grid = {});
 
   // The problem with these settings for a step of dt_s, naming the field ("kappa_max",
   // "screening_distance_m", "dt_s"), or nullopt.
@@ -36,8 +38,6 @@ class ConjunctionDetector {
   std::size_t last_candidate_pairs() const { return last_candidate_pairs_; }
   // The broad phase's grid (its cell size and build counts, for benchmarks).
   const BroadPhaseGrid& grid() const { return grid_; }
-  // The grid's regions of space (BroadPhaseGrid::set_regions; 0: one per thread), for benchmarks.
-  void set_grid_regions(std::size_t regions) { grid_.set_regions(regions); }
 
  private:
   ConjunctionSettings settings_;

@@ -4,7 +4,7 @@
 
 #include <omp.h>
 
-#include "core/integration/thread_chunks.hpp"
+#include "core/parallel/thread_chunks.hpp"
 #include "core/physics/constants.hpp"
 
 namespace kessler {

@@ -4,10 +4,12 @@
 
 #include <vector>
 
-#include "core/integration/thread_chunks.hpp"
+#include "core/parallel/thread_chunks.hpp"
 #include "core/population/population.hpp"
 
 namespace kessler {
+
+class TeamTimeline;
 
 // Positions and velocities of every object at both ends of one step, index-aligned with the population
 // (the objects alive for the whole step; burn-ups are removed after detection). Detection interpolates
@@ -20,6 +22,8 @@ struct StepEnds {
   // How the propagator shared the objects out between its threads (null: in equal chunks): passes over
   // the end states that split the same way read what their own core wrote.
   const ChunkLayout* chunks = nullptr;
+  // Where the step's scan times its threads' phases (team_timeline.hpp, DetectorSegment); null: untimed.
+  TeamTimeline* timeline = nullptr;
 };
 
 // What the loop asks of a step besides the new states.

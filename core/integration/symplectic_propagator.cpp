@@ -7,8 +7,8 @@
 #include "core/integration/symplectic_propagator.hpp"
 
 #include "core/integration/burn_up.hpp"
-#include "core/integration/team_timeline.hpp"
-#include "core/integration/thread_chunks.hpp"
+#include "core/parallel/team_timeline.hpp"
+#include "core/parallel/thread_chunks.hpp"
 #include "core/physics/constants.hpp"
 
 #include <algorithm>
@@ -186,8 +186,11 @@ void copy_states(const StateArrays& from, std::size_t begin, std::size_t end, St
 }  // namespace
 
 SymplecticPropagator::SymplecticPropagator(const ForceModelSettings& forces, const UtcEpoch& epoch,
-                                           Integrator integrator)
-    : model_(forces, epoch), integrator_(integrator), composition_(composition_of(integrator)) {}
+                                           Integrator integrator, TeamTimeline* timeline)
+    : model_(forces, epoch),
+      integrator_(integrator),
+      composition_(composition_of(integrator)),
+      timeline_(timeline) {}
 
 void SymplecticPropagator::step(Population& population, double t_start_s, double dt_s) {
   step_with(population, t_start_s, dt_s, StepRequest{});
@@ -250,15 +253,15 @@ void SymplecticPropagator::step_with(Population& population, double t_start_s, d
   // may have shifted some indices since; a chunk a few objects off only costs a little balance.)
   chunks_.weighted(n, static_cast<std::size_t>(threads), low_, kLowObjectExtraCost);
   blocks_.reset(chunks_, std::max<std::size_t>(chunk / 16, 64));
-  TeamTimeline& timeline = propagator_timeline();
-  timeline.region_start(static_cast<std::size_t>(threads));
+  TeamTimeline* const timeline = timeline_;
+  if (timeline) timeline->region_start(static_cast<std::size_t>(threads));
 #pragma omp parallel num_threads(threads)
   {
     // One region, no barrier: blocks of each thread's own chunk first (thread_chunks.hpp), so most
     // objects are propagated on the core that reads them next, then blocks left in other chunks; before
     // a block is stepped, its low objects are copied aside, and sub-stepped in batches (kLowBatch).
     const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
-    timeline.enter(t);
+    if (timeline) timeline->enter(t);
     ThreadLow& mine = low_by_thread_[t];
     ChunkBlocks::Claimer claimer = blocks_.claimer(t);
     // The low objects' sub-steps, on their copies, and the copies written back: objects [lo, hi) of
@@ -293,9 +296,9 @@ void SymplecticPropagator::step_with(Population& population, double t_start_s, d
       }
     }
     if (mine.index.size() > substepped) substep(substepped, mine.index.size());
-    timeline.mark(t, kPropBlocks);
+    if (timeline) timeline->mark(t, kPropBlocks);
   }
-  timeline.region_end();
+  if (timeline) timeline->region_end();
   low_.clear();
   for (const ThreadLow& low : low_by_thread_) low_.insert(low_.end(), low.index.begin(), low.index.end());
   std::sort(low_.begin(), low_.end());  // population order, whoever took which block

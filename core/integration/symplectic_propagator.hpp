@@ -32,15 +32,16 @@
 
 #include "core/integration/composition.hpp"
 #include "core/integration/propagator.hpp"
-#include "core/integration/thread_chunks.hpp"
+#include "core/parallel/thread_chunks.hpp"
 #include "core/physics/force_model.hpp"
 
 namespace kessler {
 
 class SymplecticPropagator final : public Propagator {
  public:
+  // timeline: where each step's threads are timed (team_timeline.hpp, PropagatorSegment); null: untimed.
   SymplecticPropagator(const ForceModelSettings& forces, const UtcEpoch& epoch,
-                       Integrator integrator = Integrator::kBlanesMoan4);
+                       Integrator integrator = Integrator::kBlanesMoan4, TeamTimeline* timeline = nullptr);
 
   void step(Population& population, double t_start_s, double dt_s) override;
   // The start states and the burn-up flags in the step's own parallel pass.
@@ -85,6 +86,7 @@ class SymplecticPropagator final : public Propagator {
   Integrator integrator_;
   Composition composition_;
   int threads_ = 0;
+  TeamTimeline* timeline_ = nullptr;
   std::vector<std::uint32_t> low_;  // objects sub-stepped in this step
   std::vector<char> low_flag_;      // per object: starts this step low
   // Per thread, on its own cache line: the low objects of the blocks it took (in the order taken), with

@@ -258,9 +258,9 @@ Simulation::RunLoop::RunLoop(State& state, EventSink& event_sink, RunControl& ru
   // Steps scanned side by side (steps_in_flight.hpp): one per thread, with scanners of their own, where
   // the scanner offers copies; else one at a time.
   if (s.parts.scanner)
-    flight =
-        std::make_unique<StepsInFlight>(*s.parts.scanner, static_cast<std::size_t>(cfg.scan_steps_at_once),
-                                        s.population.size(), static_cast<std::size_t>(omp_get_max_threads()));
+    flight = std::make_unique<StepsInFlight>(
+        *s.parts.scanner, static_cast<std::size_t>(cfg.scan_steps_at_once), s.population.size(),
+        static_cast<std::size_t>(omp_get_max_threads()), s.parts.timelines);
 }
 
 RunSummary Simulation::RunLoop::run() {

@@ -13,6 +13,7 @@
 
 namespace kessler {
 
+struct PhaseTimelines;
 struct SimulationConfig;
 
 // One step's conjunction scan, as ConjunctionDetector::scan: every encounter of the step appended to
@@ -41,6 +42,9 @@ struct SimulationParts {
   // one). burn_up false: no burn-up.
   bool burn_up = true;
   BurnUpFinder find_burn_ups;
+  // Where the loop's steps in flight and step scans time their threads (team_timeline.hpp); null: untimed.
+  // The propagator takes its own at construction (SymplecticPropagator).
+  PhaseTimelines* timelines = nullptr;
 };
 
 // ConjunctionDetector behind the scanner interface.

@@ -7,13 +7,13 @@
 #include <stdexcept>
 #include <utility>
 
-#include "core/integration/team_timeline.hpp"
+#include "core/parallel/team_timeline.hpp"
 
 namespace kessler {
 
 StepsInFlight::StepsInFlight(EncounterScanner& first, std::size_t at_once, std::size_t objects,
-                             std::size_t threads)
-    : scanners_{&first} {
+                             std::size_t threads, PhaseTimelines* timelines)
+    : scanners_{&first}, timelines_(timelines) {
   const std::size_t wanted = at_once > 0 ? at_once : steps_in_flight_for(objects, threads);
   bool copies = true;  // whether `first` offers copies (else one step at a time)
   while (copies && scanners_.size() < std::min(wanted, threads)) {
@@ -56,7 +56,8 @@ void StepsInFlight::scan(const Population& population, std::vector<std::vector<E
   if (m == 1) {
     // One step: its scanner's own team, each thread reading the chunk its core propagated.
     const HeldStep& h = steps_[0];
-    const StepEnds ends{h.t_start_s, h.dt_s, &starts_[0], &population.state, h.chunks};
+    const StepEnds ends{h.t_start_s,       h.dt_s,   &starts_[0],
+                        &population.state, h.chunks, timelines_ ? &timelines_->detector : nullptr};
     scanners_[0]->scan(population, ends, out[0]);
     const double scan_s = omp_get_wtime() - start;
     grid_share = scan_s > 0.0 ? std::min(1.0, scanners_[0]->last_grid_s() / scan_s) : 0.0;
@@ -65,17 +66,17 @@ void StepsInFlight::scan(const Population& population, std::vector<std::vector<E
     std::vector<std::exception_ptr> failures(m);
     const int threads =
         static_cast<int>(std::min({m, scanners_.size(), static_cast<std::size_t>(omp_get_max_threads())}));
-    TeamTimeline& timeline = flight_timeline();
-    timeline.region_start(static_cast<std::size_t>(threads));
+    TeamTimeline* const timeline = timelines_ ? &timelines_->flight : nullptr;
+    if (timeline) timeline->region_start(static_cast<std::size_t>(threads));
 #pragma omp parallel num_threads(threads)
     {
       const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
-      timeline.enter(t);
-      // Each scan on a team of one (its parallel regions nest inside this one), with no timeline, and
-      // with this thread's scanner: its grid (megabytes of scratch) stays in one core's caches. The
-      // steps go to the threads as they come free, so a core slowed by other load scans fewer.
+      if (timeline) timeline->enter(t);
+      // Each scan on a team of one (its parallel regions nest inside this one), with no timeline (the
+      // scans run side by side, and a timeline follows one team), and with this thread's scanner: its
+      // grid (megabytes of scratch) stays in one core's caches. The steps go to the threads as they
+      // come free, so a core slowed by other load scans fewer.
       omp_set_num_threads(1);
-      scanning_in_flight = true;
       EncounterScanner& scanner = *scanners_[t];
 #pragma omp for schedule(dynamic, 1)
       for (std::size_t j = 0; j < m; ++j) {
@@ -92,10 +93,9 @@ void StepsInFlight::scan(const Population& population, std::vector<std::vector<E
         const double scan_s = omp_get_wtime() - scan_start;
         shares[j] = scan_s > 0.0 ? std::min(1.0, scanner.last_grid_s() / scan_s) : 0.0;
       }
-      scanning_in_flight = false;
-      timeline.mark(t, kFlightScans);
+      if (timeline) timeline->mark(t, kFlightScans);
     }
-    timeline.region_end();
+    if (timeline) timeline->region_end();
     for (const std::exception_ptr& failure : failures)
       if (failure) std::rethrow_exception(failure);
     for (const double s : shares) grid_share += s / static_cast<double>(m);

@@ -26,6 +26,8 @@
 
 namespace kessler {
 
+struct PhaseTimelines;
+
 // Steps in flight pay off only while a step is small. The propagator then writes lines that another
 // core read in its scans (the states and their copies), and for larger populations that costs more than
 // the scans save: on the 2-core development host, whole runs on 2 threads against one step at a time
@@ -53,8 +55,10 @@ class StepsInFlight {
   // threads, each with a scanner of its own: `first` (the caller's) and copies of it
   // (EncounterScanner::another(), owned here). A scanner that offers no copies scans one step at a
   // time. A batch of one step is scanned by `first` on its own team, reading states in the propagator's
-  // chunks (StepEnds::chunks).
-  StepsInFlight(EncounterScanner& first, std::size_t at_once, std::size_t objects, std::size_t threads);
+  // chunks (StepEnds::chunks). timelines: where the batches' threads and a lone step's scan are timed
+  // (null: untimed).
+  StepsInFlight(EncounterScanner& first, std::size_t at_once, std::size_t objects, std::size_t threads,
+                PhaseTimelines* timelines = nullptr);
 
   std::size_t capacity() const { return capacity_; }
   // `first`, then its copies.
@@ -96,6 +100,7 @@ class StepsInFlight {
   // so a batch of B steps copies B boundaries, as many as one step at a time copies (its starts).
   std::vector<StateArrays> starts_;
   std::vector<HeldStep> steps_;
+  PhaseTimelines* timelines_ = nullptr;
   double last_scan_s_ = 0.0, last_grid_s_ = 0.0;
 };
 

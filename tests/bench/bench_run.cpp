@@ -31,7 +31,7 @@
 #include "core/catalog/synthetic.hpp"
 #include "core/conjunctions/detector.hpp"
 #include "core/integration/symplectic_propagator.hpp"
-#include "core/integration/team_timeline.hpp"
+#include "core/parallel/team_timeline.hpp"
 #include "core/simulation/simulation.hpp"
 #include "core/simulation/simulation_parts.hpp"
 #include "tests/bench/bench.hpp"
@@ -66,9 +66,7 @@ std::int64_t peak_rss_bytes() {
 class GridFiguresScanner final : public EncounterScanner {
  public:
   GridFiguresScanner(const ConjunctionSettings& settings, std::size_t team, std::size_t regions)
-      : settings_(settings), detector_(settings), team_(team), regions_(regions) {
-    detector_.set_grid_regions(regions);
-  }
+      : settings_(settings), detector_(settings, GridSettings{regions}), team_(team), regions_(regions) {}
   void scan(const Population& population, const StepEnds& step, std::vector<Encounter>& out) override {
     detector_.scan(population, step, out);
     const BroadPhaseGrid& grid = detector_.grid();
@@ -310,8 +308,13 @@ int run(int argc, char** argv) {
   }
 
   omp_set_num_threads(threads);
-  auto propagator =
-      std::make_unique<SymplecticPropagator>(config.force_model, config.start_epoch, config.integrator);
+  // Where each thread of the step's parallel regions spends its time (team_timeline.hpp), handed to the
+  // propagator and, through the parts, to the loop's scans.
+  const bool phase_times = args.has("--phase-times");
+  PhaseTimelines timelines;
+  PhaseTimelines* const timed = phase_times ? &timelines : nullptr;
+  auto propagator = std::make_unique<SymplecticPropagator>(
+      config.force_model, config.start_epoch, config.integrator, timed ? &timed->propagator : nullptr);
   propagator->set_threads(threads);
   RunSummary summary;
   CountingSink sink(events_out);
@@ -342,12 +345,7 @@ int run(int argc, char** argv) {
     scanner_cpu = timed_scanner.get();
     parts.scanner = std::move(timed_scanner);
   }
-  // Where each thread of the step's two parallel regions spends its time (team_timeline.hpp).
-  const bool phase_times = args.has("--phase-times");
-  for (TeamTimeline* timeline : {&propagator_timeline(), &detector_timeline(), &flight_timeline()}) {
-    timeline->reset();
-    timeline->enable(phase_times);
-  }
+  parts.timelines = timed;
   try {
     Simulation simulation(config, std::move(population), std::move(parts));
     RunControl control;
@@ -427,8 +425,8 @@ int run(int argc, char** argv) {
   if (phase_times) {
     // Per segment: the mean over the threads and the largest, seconds summed over the run.
     for (auto [prefix, timeline] :
-         {std::pair{"prop", &propagator_timeline()}, std::pair{"det", &detector_timeline()},
-          std::pair{"flight", &flight_timeline()}}) {
+         {std::pair{"prop", &timelines.propagator}, std::pair{"det", &timelines.detector},
+          std::pair{"flight", &timelines.flight}}) {
       for (std::size_t s = 0; s < timeline->segments().size(); ++s) {
         const auto [mean, most] = timeline->mean_and_max(static_cast<int>(s));
         const std::string key = std::string("t_") + prefix + "_" + timeline->segments()[s];
@@ -440,7 +438,6 @@ int run(int argc, char** argv) {
           line.add(key + "_each_s", each);
         }
       }
-      timeline->enable(false);
     }
   }
   if (grid_figures) line.add("grid_cell_km_mean", cell_km).add("grid_column_km_mean", column_km);

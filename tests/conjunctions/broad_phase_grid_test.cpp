@@ -18,6 +18,16 @@
 #include "core/conjunctions/broad_phase_grid.hpp"
 
 namespace kessler {
+
+// The grid's work balancing fed costs of the test's own (the friend hook BroadPhaseGrid grants).
+struct GridBalanceProbe {
+  // The passes' seconds and objects per thread of a team, as if the grid's last build had measured them.
+  static void record_pass_costs(BroadPhaseGrid& grid, const double* seconds, const std::size_t* objects,
+                                std::size_t team) {
+    grid.pass_balance_.record(seconds, objects, team);
+  }
+};
+
 namespace {
 
 struct Box {
@@ -254,8 +264,8 @@ TEST(BroadPhaseGrid, SamePairsOnceForAnyThreadCount) {
 }
 
 TEST(BroadPhaseGrid, MoreRegionsThanThreadsGiveTheSamePairs) {
-  // set_regions: 2 and 3 regions of space on one thread (what benchmarks time), 5 on 2 threads. Each
-  // region's borders, ghosts and sort then run on threads that also hold other regions.
+  // GridSettings::regions: 2 and 3 regions of space on one thread (what benchmarks time), 5 on 2 threads.
+  // Each region's borders, ghosts and sort then run on threads that also hold other regions.
   const int saved = omp_get_max_threads();
   const StateArrays s = dense_population(3000, 3.0e5, 8, 1.2e6);
   std::size_t listed = 0;
@@ -264,8 +274,7 @@ TEST(BroadPhaseGrid, MoreRegionsThanThreadsGiveTheSamePairs) {
   EXPECT_GT(one.size(), 100u);
   for (const auto [threads, regions] : {std::pair{1, 2}, std::pair{1, 3}, std::pair{2, 5}}) {
     omp_set_num_threads(threads);
-    BroadPhaseGrid grid;
-    grid.set_regions(regions);
+    BroadPhaseGrid grid(GridSettings{static_cast<std::size_t>(regions)});
     for (int build = 0; build < 2; ++build) {  // borders from this build's histogram, then the last's
       EXPECT_EQ(grid_pairs(grid, s, 10.0, 5000.0, listed), one)
           << threads << " threads, " << regions << " regions, build " << build;
@@ -374,18 +383,18 @@ TEST(BroadPhaseGrid, AThreadSlowerAtThePassesOverObjectsGetsAShorterChunkAndTheS
       objects[t] = c.end - c.begin;
       seconds[t] = (t == 1 ? 2e-8 : 1e-8) * static_cast<double>(objects[t]);
     }
-    grid.record_pass_costs(seconds, objects, 2);
+    GridBalanceProbe::record_pass_costs(grid, seconds, objects, 2);
   }
   EXPECT_NEAR(chunks_tile_in_order(), 1.0 / 3.0, 0.01);
   expect_grid_matches_all_pairs(s, 10.0, 5000.0, &grid);
   // A team of another size starts afresh: its chunks are the propagator's until measured.
   const double seconds[3] = {1.0, 1.0, 1.0};
   const std::size_t objects[3] = {1000, 1000, 2000};
-  grid.record_pass_costs(seconds, objects, 3);
+  GridBalanceProbe::record_pass_costs(grid, seconds, objects, 3);
   EXPECT_NEAR(chunks_tile_in_order(), 0.5, 0.01);
   // An empty chunk's report is ignored.
   const std::size_t none[2] = {4000, 0};
-  grid.record_pass_costs(seconds, none, 2);
+  GridBalanceProbe::record_pass_costs(grid, seconds, none, 2);
   EXPECT_NEAR(chunks_tile_in_order(), 0.5, 0.01);
   omp_set_num_threads(saved);
 }

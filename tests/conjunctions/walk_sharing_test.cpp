@@ -1,7 +1,7 @@
-// Whether threads help walk each other's regions (core/conjunctions/walk_sharing.hpp): help stays on
+// Whether threads help walk each other's regions (core/parallel/walk_sharing.hpp): help stays on
 // while helpers keep pace, goes off when they walk far slower than the owners, and is tried again now
 // and then, so a machine whose cores exchange lines cheaply gets it back.
-#include "core/conjunctions/walk_sharing.hpp"
+#include "core/parallel/walk_sharing.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// How a step's objects are shared out between threads (core/integration/thread_chunks.hpp): every object
+// How a step's objects are shared out between threads (core/parallel/thread_chunks.hpp): every object
 // is taken exactly once, whatever the team, the block size, or the number of threads OpenMP really gives.
 #include <gtest/gtest.h>
 #include <omp.h>
@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/integration/thread_chunks.hpp"
+#include "core/parallel/thread_chunks.hpp"
 
 namespace kessler {
 namespace {

@@ -22,7 +22,7 @@ struct ThreadChunk {
 
 // Chunks start at multiples of kChunkAlign objects: the loops over a chunk are vectorised 8 doubles wide,
 // and a chunk (or block) that starts or ends between two vectors runs its first or last few objects in
-// scalar code, several times dearer per object (a 7-kick step, ~5 us per block).
+// scalar code, several times dearer per object.
 inline constexpr std::size_t kChunkAlign = 8;
 
 inline ThreadChunk thread_chunk(std::size_t n, std::size_t thread, std::size_t team) {
@@ -32,11 +32,10 @@ inline ThreadChunk thread_chunk(std::size_t n, std::size_t thread, std::size_t t
 
 // Chunks of equal cost rather than equal size: some objects cost a step more than others (the
 // propagator's low objects take four sub-steps), and they cluster in a catalog (one launch's or one
-// breakup's decaying objects sit together; leo-19647 holds 111 of its 115 low objects in its second
-// half). With chunks of equal size, the team evened that out by stealing blocks, whose lines then
-// moved between cores twice (the thief's writes, then the owner's box pass), and the threads still
-// finished up to a block apart. The layout is the propagator's, handed to the grid's box pass through
-// StepEnds so that each thread still reads the states its own core wrote. Only which core handles an
+// breakup's decaying objects sit together). With chunks of equal size, the team evened that out by stealing
+// blocks, whose lines then moved between cores twice (the thief's writes, then the owner's box pass), and the
+// threads still finished up to a block apart. The layout is the propagator's, handed to the grid's box pass
+// through StepEnds so that each thread still reads the states its own core wrote. Only which core handles an
 // object depends on it, never a result.
 class ChunkLayout {
  public:

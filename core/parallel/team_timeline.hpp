@@ -1,14 +1,13 @@
 // Where each thread of a parallel region spends a run: its work segments and its waits at barriers,
 // summed over the steps. It tells the cost of many threads apart (forks, barriers, an uneven share)
-// from the cost of the work. Off by default (a benchmark turns it on): when on, each segment costs one
-// clock read per thread.
+// from the cost of the work. A part handed no timeline (null, the default) keeps none; each segment of
+// one that is kept costs one clock read per thread.
 #pragma once
 
 #include <omp.h>
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cstddef>
 #include <string>
 #include <utility>
@@ -24,27 +23,22 @@ class TeamTimeline {
   // last one the join (the thread's last mark to the region's end).
   explicit TeamTimeline(std::vector<std::string> segments) : names_(std::move(segments)) {}
 
-  void enable(bool on) { enabled_.store(on, std::memory_order_relaxed); }
-  bool enabled() const { return enabled_.load(std::memory_order_relaxed); }
-  void reset() { threads_.clear(); }
-
   // The master, just before the fork.
   void region_start(std::size_t team) {
-    if (!enabled()) return;
     if (threads_.size() < team) threads_.resize(team);
     team_ = team;
     start_ = omp_get_wtime();
   }
   // Each thread, first thing inside the region.
   void enter(std::size_t t) {
-    if (!enabled() || t >= threads_.size()) return;
+    if (t >= threads_.size()) return;
     PerThread& me = threads_[t];
     me.last = omp_get_wtime();
     me.sum[0] += me.last - start_;
   }
   // Each thread, at the end of segment `s`.
   void mark(std::size_t t, int s) {
-    if (!enabled() || t >= threads_.size()) return;
+    if (t >= threads_.size()) return;
     PerThread& me = threads_[t];
     const double now = omp_get_wtime();
     me.sum[s] += now - me.last;
@@ -52,7 +46,6 @@ class TeamTimeline {
   }
   // The master, just after the join.
   void region_end() {
-    if (!enabled()) return;
     const double now = omp_get_wtime();
     const int join = static_cast<int>(names_.size()) - 1;
     for (std::size_t t = 0; t < team_; ++t) threads_[t].sum[join] += now - threads_[t].last;
@@ -83,10 +76,11 @@ class TeamTimeline {
   std::vector<PerThread> threads_;
   std::size_t team_ = 0;
   double start_ = 0.0;
-  std::atomic<bool> enabled_{false};
 };
 
-// The timelines of the step's two parallel regions (process-wide: for benchmarks, one run at a time).
+// The segments of the step's parallel regions: the propagator's, the detector's, and the steps in
+// flight's (core/simulation/steps_in_flight.hpp: each thread's scans of whole steps, and its wait for
+// the last one).
 enum PropagatorSegment { kPropFork, kPropBlocks, kPropJoin };
 enum DetectorSegment {
   kDetFork,
@@ -101,24 +95,17 @@ enum DetectorSegment {
   kDetNarrow,
   kDetJoin
 };
-inline TeamTimeline& propagator_timeline() {
-  static TeamTimeline timeline({"fork", "blocks", "join"});
-  return timeline;
-}
-// Set on a thread while it scans one of several steps in flight (core/simulation/steps_in_flight.hpp):
-// those scans run side by side, each on a team of one, and keep no timeline of their own.
-inline thread_local bool scanning_in_flight = false;
-inline TeamTimeline& detector_timeline() {
-  static TeamTimeline timeline(
-      {"fork", "grow", "edges", "keys", "scatter", "wait", "layout", "sort", "walk", "narrow", "join"});
-  static TeamTimeline unused({"fork", "join"});  // never enabled
-  return scanning_in_flight ? unused : timeline;
-}
-// Steps in flight: each thread's scans of whole steps, and its wait for the last one.
 enum FlightSegment { kFlightFork, kFlightScans, kFlightJoin };
-inline TeamTimeline& flight_timeline() {
-  static TeamTimeline timeline({"fork", "scans", "join"});
-  return timeline;
-}
+
+// The timelines of a run's parallel regions, owned by whoever wants phase times (kessler-bench run
+// --phase-times) and handed to the parts: the propagator at construction, the steps in flight through
+// SimulationParts, and a step's scan through StepEnds::timeline (null for steps scanned in flight,
+// which run side by side while a timeline follows one team at a time).
+struct PhaseTimelines {
+  TeamTimeline propagator{{"fork", "blocks", "join"}};
+  TeamTimeline detector{
+      {"fork", "grow", "edges", "keys", "scatter", "wait", "layout", "sort", "walk", "narrow", "join"}};
+  TeamTimeline flight{{"fork", "scans", "join"}};
+};
 
 }  // namespace kessler

@@ -3,15 +3,10 @@
 // A helper walks slots another core has just sorted: it reads that core's slot arrays and bucket table
 // (lines that must cross between the cores), and the owner's next sort must take those lines back
 // before writing them. Where lines cross cheaply, helping evens out the threads' ends. Where they do
-// not, it costs more than it saves. 2 threads on this machine's two cores far apart (leo-19647, a
-// quarter day, `kessler-bench run --phase-times`):
-//   - a helper walked ~0.3 of the slots per second its owner walked (24 ms of help took 7 ms off the
-//     owner's walk);
-//   - the owner's next sorts took ~0.7 ms longer per ms of help received (64 -> 47 ms without help).
-// So the team measures it: each scan times the slots walked by their owner and by helpers, and help
-// stays on while a helper walks at least kMinHelpEfficiency of its owner's pace (smoothed over scans).
-// While off, one scan in kProbeEvery helps anyway, to measure again. Who walks which slots never changes
-// a result, only when the team is done.
+// not (cores far apart), it costs more than it saves. So the team measures it: each scan times the
+// slots walked by their owner and by helpers, and help stays on while a helper walks at least
+// kMinHelpEfficiency of its owner's pace (smoothed over scans). While off, one scan in kProbeEvery helps
+// anyway, to measure again. Who walks which slots never changes a result, only when the team is done.
 #pragma once
 
 #include <cstddef>
@@ -21,7 +16,7 @@ namespace kessler {
 class WalkSharing {
  public:
   // Helping pays while a helper walks at least this share of its owner's slots per second (it pays back
-  // the owner's dearer next sort only at about this pace: measured above).
+  // the owner's dearer next sort only at about this pace).
   static constexpr double kMinHelpEfficiency = 0.6;
   // While help is off, every kProbeEvery-th scan helps, to measure the pace again.
   static constexpr std::size_t kProbeEvery = 32;
