@@ -38,7 +38,7 @@ run=$("$kessler" submit "$scenario" --server "$server" --output json | sed -n 's
 [ -n "$run" ] || { echo "submit failed" >&2; exit 1; }
 echo "run $run submitted; streaming it live (Ctrl-C stops watching, not the run)"
 status=0
-"$kessler" watch "$run" --server "$server" || status=$?
+"$kessler" watch "$run" --events all --server "$server" || status=$?
 
 cat <<EOT
 

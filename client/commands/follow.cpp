@@ -35,14 +35,6 @@ void add_watch_options(CLI::App& command, WatchOptions& options) {
 
 namespace {
 
-std::string percent(const v1::Progress& p) {
-  if (p.total_steps() <= 0) return "-";
-  char buf[16];
-  std::snprintf(buf, sizeof buf, "%.1f%%",
-                100.0 * static_cast<double>(p.step()) / static_cast<double>(p.total_steps()));
-  return buf;
-}
-
 class ProgressView {
  public:
   explicit ProgressView(std::string start_epoch) : start_epoch_(std::move(start_epoch)), tty_(isatty(2)) {}
@@ -89,9 +81,9 @@ class ProgressView {
     char rate[32] = "-";
     if (p.wall_s() > 0) std::snprintf(rate, sizeof rate, "%.0fx", p.sim_time_s() / p.wall_s());
     std::ostringstream s;
-    s << bar << " " << percent(p) << "  " << format_sim_time(start_epoch_, p.sim_time_s()) << "  " << rate
-      << " real time  left " << format_duration(p.eta_s()) << "  objects " << p.objects_alive() << "  conj "
-      << conjunctions << " coll " << collisions << " evas " << evasions << " burn " << burn_ups;
+    s << bar << " " << progress_percent(p) << "  " << format_sim_time(start_epoch_, p.sim_time_s()) << "  "
+      << rate << " real time  left " << format_duration(p.eta_s()) << "  objects " << p.objects_alive()
+      << "  conj " << conjunctions << " coll " << collisions << " evas " << evasions << " burn " << burn_ups;
     return s.str();
   }
   void draw() {

@@ -24,14 +24,6 @@ std::string unix_time_text(double unix_s) {
   return UtcEpoch::from_calendar(1970, 1, 1, 0, 0, 0.0).plus_seconds(unix_s).to_iso8601(0);
 }
 
-std::string percent(const v1::Progress& p) {
-  if (p.total_steps() <= 0) return "-";
-  char buf[16];
-  std::snprintf(buf, sizeof buf, "%.1f%%",
-                100.0 * static_cast<double>(p.step()) / static_cast<double>(p.total_steps()));
-  return buf;
-}
-
 void print_header(const v1::Run& run) {
   std::cout << "run " << run.id() << (run.name().empty() ? "" : " (" + run.name() + ")") << ": "
             << v1::run_state_name(run.state()) << "\n";
@@ -41,8 +33,8 @@ void print_header(const v1::Run& run) {
             << "  finished  " << unix_time_text(run.finished_unix_s()) << "\n"
             << "  threads   " << (run.threads() ? std::to_string(run.threads()) : "daemon default") << "\n";
   if (run.has_progress())
-    std::cout << "  progress  " << percent(run.progress()) << " (step " << run.progress().step() << " of "
-              << run.progress().total_steps() << "), last event " << run.last_seq() << "\n";
+    std::cout << "  progress  " << progress_percent(run.progress()) << " (step " << run.progress().step()
+              << " of " << run.progress().total_steps() << "), last event " << run.last_seq() << "\n";
   std::cout << "\nscenario\n  " << to_json(run.scenario()) << "\n";
   if (run.has_ingest()) std::cout << "\n" << ingest_table(ingest_outcome_of(run.ingest()));
 }

@@ -196,4 +196,12 @@ std::string csv_field(const std::string& s) {
   return out + "\"";
 }
 
+std::string progress_percent(const v1::Progress& p) {
+  if (p.total_steps() <= 0) return "-";
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "%.1f%%",
+                100.0 * static_cast<double>(p.step()) / static_cast<double>(p.total_steps()));
+  return buf;
+}
+
 }  // namespace kessler::cli

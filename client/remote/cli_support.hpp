@@ -45,6 +45,8 @@ std::string summary_text(const v1::Run& run);
 
 // The run's ingest report as `run --local` renders it (client/render.hpp).
 IngestOutcome ingest_outcome_of(const v1::IngestReport& report);
+// A run's progress as "12.5%", or "-" before it knows its steps.
+std::string progress_percent(const v1::Progress& p);
 
 // "1d 02:03:04" style durations and UTC times of simulation seconds.
 std::string format_duration(double seconds);
