@@ -52,7 +52,7 @@ CLI::App* named_command(CLI::App& app) {
 // The first argument that is neither an option nor a global option's value: the command's name.
 std::string first_word(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
+    std::string arg = argv[i];
     if (arg == "--server" || arg == "--output") {
       ++i;
       continue;

@@ -83,49 +83,55 @@ RemoteClient::RemoteClient(const std::string& address) : address_(address), impl
 
 RemoteClient::~RemoteClient() = default;
 
-#define KESSLER_UNARY(method, request, response)                                      \
-  grpc::ClientContext context;                                                        \
-  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(300)); \
-  auto status = impl_->stub->method(&context, request, &response);                    \
-  return result_of(status, context)
+namespace {
+
+// One unary call with the client's deadline: (stub->*method)(context, request, response).
+template <class Stub, class Request, class Response>
+CallResult unary(Stub& stub, grpc::Status (Stub::*method)(grpc::ClientContext*, const Request&, Response*),
+                 const Request& request, Response& response) {
+  grpc::ClientContext context;
+  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(300));
+  const grpc::Status status = (stub.*method)(&context, request, &response);
+  return result_of(status, context);
+}
+
+}  // namespace
 
 CallResult RemoteClient::submit(const v1::SubmitRunRequest& request, v1::Run& out) {
-  KESSLER_UNARY(SubmitRun, request, out);
+  return unary(*impl_->stub, &v1::KesslerService::Stub::SubmitRun, request, out);
 }
 
 CallResult RemoteClient::get(std::int64_t run_id, v1::Run& out) {
   v1::GetRunRequest request;
   request.set_run_id(run_id);
-  KESSLER_UNARY(GetRun, request, out);
+  return unary(*impl_->stub, &v1::KesslerService::Stub::GetRun, request, out);
 }
 
 CallResult RemoteClient::list(const v1::ListRunsRequest& request, v1::ListRunsResponse& out) {
-  KESSLER_UNARY(ListRuns, request, out);
+  return unary(*impl_->stub, &v1::KesslerService::Stub::ListRuns, request, out);
 }
 
 CallResult RemoteClient::cancel(std::int64_t run_id, v1::Run& out) {
   v1::CancelRunRequest request;
   request.set_run_id(run_id);
-  KESSLER_UNARY(CancelRun, request, out);
+  return unary(*impl_->stub, &v1::KesslerService::Stub::CancelRun, request, out);
 }
 
 CallResult RemoteClient::remove(std::int64_t run_id) {
   v1::DeleteRunRequest request;
   request.set_run_id(run_id);
   v1::DeleteRunResponse out;
-  KESSLER_UNARY(DeleteRun, request, out);
+  return unary(*impl_->stub, &v1::KesslerService::Stub::DeleteRun, request, out);
 }
 
 CallResult RemoteClient::conjunctions(const v1::ListConjunctionsRequest& request,
                                       v1::ListConjunctionsResponse& out) {
-  KESSLER_UNARY(ListConjunctions, request, out);
+  return unary(*impl_->stub, &v1::KesslerService::Stub::ListConjunctions, request, out);
 }
 
 CallResult RemoteClient::stats(const v1::GetRunStatsRequest& request, v1::RunStats& out) {
-  KESSLER_UNARY(GetRunStats, request, out);
+  return unary(*impl_->stub, &v1::KesslerService::Stub::GetRunStats, request, out);
 }
-
-#undef KESSLER_UNARY
 
 CallResult RemoteClient::health(const std::string& service, double timeout_s, std::string& status) {
   // The health proto's stubs are not part of the build: its two one-field messages are written and

@@ -11,7 +11,7 @@ namespace kessler {
 namespace {
 
 std::string normalise_object_type(std::string_view raw) {
-  const std::string t = text::upper(text::trim(raw));
+  std::string t = text::upper(text::trim(raw));
   if (t == "PAY" || t == "PAYLOAD") return "PAYLOAD";
   if (t == "R/B" || t == "ROCKET BODY") return "ROCKET BODY";
   if (t == "DEB" || t == "DEBRIS") return "DEBRIS";
