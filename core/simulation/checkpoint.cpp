@@ -155,6 +155,7 @@ std::string encode_checkpoint(const CheckpointState& s) {
                         &p.radius_m, &p.mass_kg, &p.drag_area_to_mass_m2_kg, &p.srp_area_to_mass_m2_kg})
     w.doubles(*v);
   for (auto status : p.status) w.u8(static_cast<std::uint8_t>(status));
+  w.u64(s.next_fragment_id);
 
   const std::string& payload = w.bytes();
   Sha256 sum;
@@ -174,10 +175,10 @@ CheckpointState decode_checkpoint(const std::string& bytes) {
     throw std::runtime_error("checkpoint: not a kessler checkpoint (bad header)");
   Reader head(bytes.data() + sizeof kMagic, 12);
   std::uint32_t version = head.u32("header");
-  if (version != kCheckpointVersion)
-    throw std::runtime_error("checkpoint: format version " + std::to_string(version) +
-                             " is not supported (this build reads " + std::to_string(kCheckpointVersion) +
-                             ")");
+  if (version < kOldestCheckpointVersion || version > kCheckpointVersion)
+    throw std::runtime_error(
+        "checkpoint: format version " + std::to_string(version) + " is not supported (this build reads " +
+        std::to_string(kOldestCheckpointVersion) + " to " + std::to_string(kCheckpointVersion) + ")");
   std::uint64_t size = head.u64("header");
   const std::size_t offset = sizeof kMagic + 12;
   if (size != bytes.size() - offset - 32)
@@ -219,7 +220,8 @@ CheckpointState decode_checkpoint(const std::string& bytes) {
     if (v > 1) throw std::runtime_error("checkpoint: unknown object status");
     status = static_cast<ObjectStatus>(v);
   }
-  if (!r.at_end()) throw std::runtime_error("checkpoint: trailing bytes after the population");
+  if (version >= 2) s.next_fragment_id = r.u64("fragment id counter");
+  if (!r.at_end()) throw std::runtime_error("checkpoint: trailing bytes at the end");
   if (s.step < 0 || s.step > s.total_steps || s.next_seq == 0)
     throw std::runtime_error("checkpoint: inconsistent step counter or sequence number");
   return s;

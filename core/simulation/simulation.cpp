@@ -25,7 +25,28 @@ double seconds_since(Clock::time_point t0) {
 }
 
 // Event tags inside the events digest.
-constexpr std::uint64_t kTagEncounter = 1, kTagBurnUp = 2, kTagProgress = 3;
+constexpr std::uint64_t kTagEncounter = 1, kTagBurnUp = 2, kTagProgress = 3, kTagBreakup = 4;
+
+void hash_breakup_settings(Sha256& h, const BreakupSettings& b) {
+  h.update("breakups-v1");
+  h.update_f64(b.min_characteristic_length_m);
+  h.update_u64(b.mass_conservation);
+  h.update_f64(b.explosion_scale);
+  h.update_u64(b.max_fragments_per_event);
+  h.update_u64(b.scheduled.size());
+  for (const ScheduledBreakup& e : b.scheduled) {
+    h.update_u64(e.step.has_value());
+    h.update_u64(static_cast<std::uint64_t>(e.step.value_or(0)));
+    h.update_f64(e.epoch_offset_s);
+    h.update_u64(static_cast<std::uint64_t>(e.kind));
+    h.update_u64(e.object_ids.size());
+    for (ObjectId id : e.object_ids) h.update_u64(id);
+    h.update_u64(e.impact_speed_m_s.has_value());
+    h.update_f64(e.impact_speed_m_s.value_or(0.0));
+    h.update_u64(e.masses_kg.size());
+    for (double m : e.masses_kg) h.update_f64(m);
+  }
+}
 
 // The configuration fields that shape results: a checkpoint from a run with other values is refused.
 // Threads, checkpoint triggers and wall-time never change results, so they are left out.
@@ -49,6 +70,8 @@ std::string config_key(const SimulationConfig& c) {
   h.update_f64(c.burn_up_altitude_m);
   h.update_u64(static_cast<std::uint64_t>(c.progress_every_steps));
   h.update_u64(c.seed);
+  // Only when enabled, so that the keys (and checkpoints) of runs without breakups stay as they were.
+  if (c.breakups.enabled) hash_breakup_settings(h, c.breakups);
   return h.hex_digest();
 }
 
@@ -81,6 +104,21 @@ void hash_burn_up(Sha256& h, std::uint64_t seq, const BurnUp& b) {
   h.update_u64(b.id);
   h.update_f64(b.time_s);
   h.update_f64(b.altitude_m);
+}
+
+void hash_breakup(Sha256& h, std::uint64_t seq, const BreakupReport& b) {
+  h.update_u64(kTagBreakup);
+  h.update_u64(seq);
+  h.update_u64(b.event_index);
+  h.update_f64(b.time_s);
+  h.update_u64(static_cast<std::uint64_t>(b.kind));
+  for (ObjectId id : b.parents) h.update_u64(id);
+  h.update_u64(b.catastrophic);
+  h.update_f64(b.specific_energy_j_per_g);
+  h.update_u64(b.fragment_count);
+  h.update_f64(b.fragment_mass_kg);
+  h.update_u64(b.first_id);
+  h.update_u64(b.last_id);
 }
 
 // Only the deterministic fields: wall time and ETA differ between runs.
@@ -126,6 +164,7 @@ struct Simulation::State {
   Sha256 events_hash;
   ClosestEncounterTable closest;
   std::int64_t last_checkpoint_step = -1;
+  ObjectId next_fragment_id = kFirstFragmentId;  // run-level: fragment ids never repeat in a run
 
   CheckpointState snapshot(double wall_s) const {
     CheckpointState c;
@@ -139,6 +178,7 @@ struct Simulation::State {
     c.events_digest_state = events_hash.save_state();
     c.closest_per_pair = closest.entries();
     c.population = population;
+    c.next_fragment_id = next_fragment_id;
     return c;
   }
 };
@@ -173,6 +213,7 @@ std::unique_ptr<Simulation> Simulation::resume(const SimulationConfig& config, c
     throw std::runtime_error("checkpoint: events digest state is malformed");
   for (const auto& e : c.closest_per_pair) s.closest.update(e);
   s.last_checkpoint_step = c.step;
+  s.next_fragment_id = c.next_fragment_id;
   return sim;
 }
 
@@ -215,6 +256,7 @@ struct Simulation::RunLoop {
   void emit_encounters(const std::vector<Encounter>& step_encounters);
   void emit_burn_ups();
   void remove_burn_ups();
+  void break_up();
   void emit_progress(double t1_s);
   RunSummary finish();
 
@@ -331,6 +373,9 @@ std::size_t Simulation::RunLoop::propagate_batch() {
       std::min(s.total_steps, s.step + (flight ? static_cast<std::int64_t>(flight->capacity()) : 1));
   if (cfg.checkpoint_every_steps > 0)
     batch_end = std::min(batch_end, (s.step / cfg.checkpoint_every_steps + 1) * cfg.checkpoint_every_steps);
+  // A breakup changes the population at its boundary: the batch ends there.
+  if (const auto breakup = next_breakup_step(cfg.breakups, s.step, cfg.dt_s))
+    batch_end = std::min(batch_end, *breakup);
   Population& pop = s.population;
   const std::int64_t batch_start = s.step;
   std::int64_t next = batch_start;
@@ -377,7 +422,7 @@ void Simulation::RunLoop::scan_batch(std::size_t steps) {
 }
 
 // Events, step by step, in sequence order: encounters (canonical), burn-ups (by id, on the batch's last
-// step, whose objects then leave the population), progress.
+// step, whose objects then leave the population), scheduled breakups (on the batch's last step), progress.
 void Simulation::RunLoop::emit_batch(std::size_t steps) {
   auto t = Clock::now();
   for (std::size_t j = 0; j < steps; ++j) {
@@ -386,6 +431,7 @@ void Simulation::RunLoop::emit_batch(std::size_t steps) {
     if (j + 1 == steps) {
       emit_burn_ups();
       remove_burn_ups();
+      break_up();
     }
     ++s.step;
     if (s.step % progress_every == 0 || s.step == s.total_steps) emit_progress(t1_s);
@@ -420,6 +466,26 @@ void Simulation::RunLoop::emit_burn_ups() {
 
 void Simulation::RunLoop::remove_burn_ups() {
   if (!burned.empty()) s.population.remove_flagged(flags);
+}
+
+// The breakups due at the boundary the batch ends on (s.step + 1), in schedule order: parents replaced
+// by fragments from their end-of-step states, one event each. Fragment generation counts as burn-up
+// time (the phase that changes the population).
+void Simulation::RunLoop::break_up() {
+  if (!cfg.breakups.enabled) return;
+  auto t = Clock::now();
+  const std::int64_t boundary = s.step + 1;
+  const double t1_s = static_cast<double>(boundary) * cfg.dt_s;
+  for (std::size_t index : breakups_due(cfg.breakups, boundary, cfg.dt_s)) {
+    const std::optional<BreakupReport> report =
+        apply_scheduled_breakup(cfg.breakups, index, cfg.seed, t1_s, s.population, s.next_fragment_id);
+    if (!report) continue;
+    const std::uint64_t seq = s.next_seq++;
+    hash_breakup(s.events_hash, seq, *report);
+    ++s.counters.events;
+    sink.on_breakup(seq, *report);
+  }
+  timers.burn_up_s += seconds_since(t);
 }
 
 // Progress after step s.step, ending at t1_s.

@@ -265,13 +265,15 @@ struct Gabbard {
   std::vector<double> period, apogee, perigee;
 };
 
-void write_gabbard_csv(const Gabbard g[2], double parent_period[2], double collision_km) {
+// One row per parent (cloud "parent0", "parent1") and per bound fragment (cloud 0 or 1).
+void write_gabbard_csv(const Gabbard g[2], const Osculating parent[2]) {
   const char* path = std::getenv("KESSLER_GABBARD_CSV");
   if (path == nullptr || *path == '\0') return;
   std::ofstream out(path);
   out << "cloud,period_min,apogee_km,perigee_km\n";
   for (int k = 0; k < 2; ++k) {
-    out << "parent" << k << ',' << parent_period[k] << ',' << collision_km << ',' << collision_km << '\n';
+    out << "parent" << k << ',' << parent[k].period_min << ',' << parent[k].apogee_km << ','
+        << parent[k].perigee_km << '\n';
     for (std::size_t i = 0; i < g[k].period.size(); ++i)
       out << k << ',' << g[k].period[i] << ',' << g[k].apogee[i] << ',' << g[k].perigee[i] << '\n';
   }
@@ -282,11 +284,13 @@ TEST(IridiumCosmos, GabbardDiagramIsAnX) {
   const FragmentCloud& c = r.cloud;
   Gabbard g[2];
   double parent_period[2];
+  Osculating parent[2];
   int unbound = 0;
   const double collision_km =
       (norm(r.event.parents[0].position_m) - constants::kEarthEquatorialRadius_m) / 1e3;
   for (int k = 0; k < 2; ++k)
-    parent_period[k] = osculating(r.event.parents[k].position_m, r.event.parents[k].velocity_m_s).period_min;
+    parent[k] = osculating(r.event.parents[k].position_m, r.event.parents[k].velocity_m_s);
+  for (int k = 0; k < 2; ++k) parent_period[k] = parent[k].period_min;
   for (std::size_t i = 0; i < c.size(); ++i) {
     const Osculating o = osculating({c.position_m.x[i], c.position_m.y[i], c.position_m.z[i]},
                                     {c.velocity_m_s.x[i], c.velocity_m_s.y[i], c.velocity_m_s.z[i]});
@@ -307,7 +311,7 @@ TEST(IridiumCosmos, GabbardDiagramIsAnX) {
   }
   std::printf("collision altitude %.1f km, parent periods %.2f and %.2f min, %d fragments unbound\n",
               collision_km, parent_period[0], parent_period[1], unbound);
-  write_gabbard_csv(g, parent_period, collision_km);
+  write_gabbard_csv(g, parent);
   for (int k = 0; k < 2; ++k) {
     Gabbard up, down;  // periods above and below the parent's
     for (std::size_t i = 0; i < g[k].period.size(); ++i) {

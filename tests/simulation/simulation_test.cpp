@@ -282,7 +282,8 @@ TEST(Simulation, CorruptOrForeignCheckpointsAreRefused) {
   EXPECT_EQ(message("hello", config), "checkpoint: not a kessler checkpoint (bad header)");
   std::string future = good;
   future[8] = 9;
-  EXPECT_EQ(message(future, config), "checkpoint: format version 9 is not supported (this build reads 1)");
+  EXPECT_EQ(message(future, config),
+            "checkpoint: format version 9 is not supported (this build reads 1 to 2)");
   auto other = config;
   other.dt_s = 5.0;
   EXPECT_NE(message(good, other).find("different scenario"), std::string::npos);
@@ -309,7 +310,9 @@ TEST(Simulation, CheckpointRoundTripKeepsEveryField) {
   e.r2_m = {7, 8, 9};
   e.v2_m_s = {10, 11, 12};
   s.closest_per_pair.push_back(e);
+  s.next_fragment_id = kFirstFragmentId + 123;
   CheckpointState back = decode_checkpoint(encode_checkpoint(s));
+  EXPECT_EQ(back.next_fragment_id, kFirstFragmentId + 123);
   EXPECT_EQ(back.step, 5);
   EXPECT_EQ(back.next_seq, 42u);
   EXPECT_EQ(back.seed, 77u);
