@@ -9,7 +9,7 @@ packages=(
   libsqlite3-dev sqlite3
   libyaml-cpp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  clang-format zlib1g-dev libssl-dev
+  clang-format clang-tidy zlib1g-dev libssl-dev
   libsimdjson-dev libpugixml-dev
 )
 

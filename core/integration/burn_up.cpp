@@ -26,10 +26,10 @@ void flag_burn_ups(const StateArrays& s, double radius2, std::vector<char>& flag
   const int threads = n >= kPropagationParallelMinimum ? omp_get_max_threads() : 1;
 #pragma omp parallel num_threads(threads)
   {
-    const auto [begin, end] = thread_chunk(n, static_cast<std::size_t>(omp_get_thread_num()),
+    const ThreadChunk chunk = thread_chunk(n, static_cast<std::size_t>(omp_get_thread_num()),
                                            static_cast<std::size_t>(omp_get_num_threads()));
 #pragma omp simd
-    for (std::size_t i = begin; i < end; ++i) flag[i] = burns_up(x[i], y[i], z[i], radius2);
+    for (std::size_t i = chunk.begin; i < chunk.end; ++i) flag[i] = burns_up(x[i], y[i], z[i], radius2);
   }
 }
 

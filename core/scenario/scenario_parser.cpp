@@ -95,7 +95,7 @@ class Mapper {
       return message(node, *sub, path);
     }
     if (!node.IsScalar()) return FieldError{path, "expected " + expected(field) + ", got " + describe(node)};
-    const std::string text = node.Scalar();
+    const std::string& text = node.Scalar();
     const bool quoted = node.Tag() == "!";
     switch (field->cpp_type()) {
       case T::CPPTYPE_STRING:
