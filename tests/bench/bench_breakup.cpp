@@ -2,25 +2,151 @@
 // collision (560 kg + 950 kg spacecraft at 11.7 km/s) down to --lc-min (default 1 cm: about 88,000
 // fragments). Each repeat generates the whole cloud (event id = repeat); the figure is the median.
 //   --lc-min M (default 0.01)  --threads T (default 1)  --repeats R (default 3)
+//
+// Then two runs of leo-19647 (its physics as in `kessler-bench run`: J2, C22/S22, drag on the dataset's
+// density fit, SRP off; kappa 10 conjunction tracking, 30 s, one thread) with a breakup scheduled
+// through the core (SimulationConfig::breakups), every step timed from the progress events:
+//   insert (--skip-insert): a catastrophic collision of two catalog objects with masses set so that
+//     N(>= 1 cm) is ~100,000, at the end of step --insert-step (default 30); insert_s is that step's wall
+//     time less the median step before it, insert_steps the same over the median step after it (the
+//     grown population, --insert-after steps, default 5). This run propagates without conjunction
+//     detection unless --insert-detection: the first scan after the breakup holds ~100,000 objects that
+//     start at two points, and on a 23 GB machine it ran 3 minutes and ended in std::bad_alloc.
+//   growth (--skip-growth): Iridium 33 / Cosmos 2251 (560 kg + 950 kg at 11.7 km/s, Lc >= 10 cm) at the
+//     end of step --growth-steps (default 300), then as many steps again: ns per object-step before and
+//     after (the breakup step itself apart), and the encounters of each window by kind of pair.
 #include <omp.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <memory>
 #include <vector>
 
 #include "core/breakup/fragment_cloud.hpp"
+#include "core/catalog/bundled_datasets.hpp"
+#include "core/catalog/leo19647.hpp"
+#include "core/integration/symplectic_propagator.hpp"
+#include "core/simulation/scheduled_breakups.hpp"
+#include "core/simulation/simulation.hpp"
+#include "core/simulation/simulation_parts.hpp"
 #include "tests/bench/bench.hpp"
 
 namespace kessler::bench {
 namespace {
 
+// The parents in leo-19647: two of its largest objects near Iridium 33's altitude (ids 5553, 751 km,
+// r 2.8 m; 4855, 802 km, r 2.66 m). A scheduled collision takes each parent's state where it is: each
+// parent's fragments start at its own position, so the cloud is two clumps. Their sizes (2 r) set
+// Lc_max, not the count.
+constexpr ObjectId kParentA = 5553, kParentB = 4855;
+
+// Times every step from the progress events (one per step), and counts encounters by kind of pair.
+class StepTimingSink final : public EventSink {
+ public:
+  explicit StepTimingSink(double breakup_time_s) : breakup_time_s_(breakup_time_s) {}
+  void start() { last_ = now_s(); }
+  void on_encounter(std::uint64_t, const Encounter& e) override {
+    const bool after = e.tca_s > breakup_time_s_;
+    const int fragments = (e.id1 >= kFirstFragmentId ? 1 : 0) + (e.id2 >= kFirstFragmentId ? 1 : 0);
+    ++(after ? after_by_fragments : before_by_fragments)[fragments];
+  }
+  void on_burn_up(std::uint64_t, const BurnUp&) override {}
+  void on_progress(std::uint64_t, const Progress& p) override {
+    const double t = now_s();
+    step_s.push_back(t - last_);
+    objects_at_start.push_back(alive_);
+    alive_ = p.objects_alive;
+    last_ = t;
+  }
+  void on_breakup(std::uint64_t, const BreakupReport& b) override { fragments += b.fragment_count; }
+  void on_checkpoint(std::uint64_t, std::int64_t, const std::string&) override {}
+  void on_finished(const RunSummary&) override {}
+  void on_failed(const std::string& reason) override {
+    std::fprintf(stderr, "kessler-bench breakup: run failed: %s\n", reason.c_str());
+  }
+  void set_alive(std::uint64_t n) { alive_ = n; }
+
+  std::vector<double> step_s;                    // step k (1-based) at index k - 1
+  std::vector<std::uint64_t> objects_at_start;  // objects alive when that step began
+  std::uint64_t before_by_fragments[3] = {0, 0, 0}, after_by_fragments[3] = {0, 0, 0};
+  std::uint64_t fragments = 0;
+
+ private:
+  double breakup_time_s_;
+  double last_ = 0.0;
+  std::uint64_t alive_ = 0;
+};
+
+// leo-19647 for `steps` steps of 30 s on one thread with kappa 10 tracking and `breakup` at the end of
+// step `at`; every step timed.
+struct BreakupRun {
+  std::unique_ptr<StepTimingSink> sink;
+  RunSummary summary;
+};
+BreakupRun run_with_breakup(const Population& leo, std::int64_t steps, std::int64_t at, double lc_min,
+                            const ScheduledBreakup& breakup, bool detection) {
+  SimulationConfig config;
+  config.start_epoch = leo19647_epoch();
+  config.force_model.srp = false;
+  config.force_model.atmosphere = AtmosphereModel::kExponentialFit;
+  config.dt_s = 30.0;
+  config.duration_s = static_cast<double>(steps) * config.dt_s;
+  config.threads = 1;
+  config.scan_steps_at_once = 1;
+  config.checkpoint_every_steps = 0;
+  config.checkpoint_every_wall_s = 0.0;
+  config.progress_every_steps = 1;
+  config.conjunctions_enabled = detection;
+  config.conjunctions.kappa_max = 10.0;
+  config.breakups.enabled = true;
+  config.breakups.min_characteristic_length_m = lc_min;
+  config.breakups.scheduled = {breakup};
+  config.breakups.scheduled[0].step = at;
+  auto propagator = std::make_unique<SymplecticPropagator>(config.force_model, config.start_epoch,
+                                                           config.integrator, nullptr);
+  propagator->set_threads(1);
+  BreakupRun out;
+  out.sink = std::make_unique<StepTimingSink>(static_cast<double>(at) * config.dt_s);
+  out.sink->set_alive(leo.size());
+  Simulation simulation(config, leo, default_parts(config, std::move(propagator)));
+  RunControl control;
+  out.sink->start();
+  out.summary = simulation.run(*out.sink, control);
+  return out;
+}
+
+// Median of the step times of steps first..last (1-based, inclusive).
+double median_steps(const std::vector<double>& step_s, std::int64_t first, std::int64_t last) {
+  std::vector<double> v(step_s.begin() + (first - 1), step_s.begin() + last);
+  return median(v);
+}
+
+// ns per object-step over steps first..last (1-based): wall time over objects alive at each step's start.
+double ns_per_object_step(const StepTimingSink& s, std::int64_t first, std::int64_t last) {
+  double wall = 0.0, object_steps = 0.0;
+  for (std::int64_t k = first; k <= last; ++k) {
+    wall += s.step_s[static_cast<std::size_t>(k - 1)];
+    object_steps += static_cast<double>(s.objects_at_start[static_cast<std::size_t>(k - 1)]);
+  }
+  return wall * 1e9 / object_steps;
+}
+
 int bench_breakup(int argc, char** argv) {
   Args args(argc, argv);
-  args.allow_only({"--lc-min", "--threads", "--repeats"});
+  args.allow_only({"--lc-min", "--threads", "--repeats", "--skip-insert", "--skip-growth", "--insert-step",
+                   "--insert-after", "--growth-steps", "--insert-detection"});
   const double lc_min = args.get_double("--lc-min", 0.01);
   const int threads = static_cast<int>(args.get_int("--threads", 1));
   const int repeats = static_cast<int>(args.get_int("--repeats", 3));
-  if (threads < 1 || repeats < 1) {
-    std::fprintf(stderr, "kessler-bench breakup: --threads and --repeats must be positive\n");
+  const bool do_insert = !args.has("--skip-insert"), do_growth = !args.has("--skip-growth");
+  const std::int64_t insert_step = args.get_int("--insert-step", 30);
+  const std::int64_t insert_after = args.get_int("--insert-after", 5);
+  const std::int64_t growth_steps = args.get_int("--growth-steps", 300);
+  if (threads < 1 || repeats < 1 || insert_step < 3 || insert_after < 1 || growth_steps < 3) {
+    std::fprintf(stderr,
+                 "kessler-bench breakup: --threads, --repeats, --insert-after must be positive, "
+                 "--insert-step and --growth-steps at least 3\n");
     return 2;
   }
   omp_set_num_threads(threads);
@@ -66,6 +192,92 @@ int bench_breakup(int argc, char** argv) {
       .add("fragments_per_cpu_s", median(cpu_rates))
       .add("fresh_cloud_fragments_per_s", median(fresh_rates))
       .add("checksum_mass_kg", checksum);
+
+  Population leo;
+  if (do_insert || do_growth) {
+    try {
+      leo = load_leo19647(default_datasets_dir() + "/leo-19647");
+      validate_for_propagation(leo);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "kessler-bench breakup: leo-19647: %s\n", e.what());
+      return 1;
+    }
+  }
+  ScheduledBreakup collision;
+  collision.kind = BreakupKind::kCollision;
+  collision.object_ids = {kParentA, kParentB};
+  collision.impact_speed_m_s = 11700.0;
+
+  if (do_insert) {
+    // N(>= Lc) = 0.1 M^0.75 Lc^-1.71 = 100,000 at Lc = 1 cm: M = (1e6 Lc^1.71)^(4/3) = 2,754 kg; a
+    // 1,000 kg projectile on the rest is catastrophic (E_p = 3.9e4 J/g at 11.7 km/s).
+    const double lc = 0.01;
+    const double total_mass = std::pow(1e5 / (0.1 * std::pow(lc, -1.71)), 4.0 / 3.0) + 1.0;
+    ScheduledBreakup big = collision;
+    big.masses_kg = {1000.0, total_mass - 1000.0};
+    try {
+      const BreakupRun r = run_with_breakup(leo, insert_step + insert_after, insert_step, lc, big,
+                                                   args.has("--insert-detection"));
+      const auto& st = r.sink->step_s;
+      const double before = median_steps(st, 2, insert_step - 1);  // step 1 warms up
+      const double after = median_steps(st, insert_step + 1, insert_step + insert_after);
+      const double insert_s = st[static_cast<std::size_t>(insert_step - 1)] - before;
+      std::fprintf(stderr,
+                   "insert: %llu fragments at the end of step %lld: that step %.4f s, median step before "
+                   "%.4f s, after %.4f s (%llu objects)\n",
+                   static_cast<unsigned long long>(r.sink->fragments), static_cast<long long>(insert_step),
+                   st[static_cast<std::size_t>(insert_step - 1)], before, after,
+                   static_cast<unsigned long long>(r.sink->objects_at_start.back()));
+      line.add("insert_fragments", static_cast<std::int64_t>(r.sink->fragments))
+          .add("insert_mass_kg", total_mass)
+          .add("insert_s", insert_s)
+          .add("insert_step_before_s", before)
+          .add("insert_step_after_s", after)
+          .add("insert_steps", insert_s / after)
+          .add("insert_conjunctions_after", static_cast<std::int64_t>(r.sink->after_by_fragments[0] +
+                                                                      r.sink->after_by_fragments[1] +
+                                                                      r.sink->after_by_fragments[2]));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "kessler-bench breakup: insert run: %s\n", e.what());
+      return 1;
+    }
+  }
+
+  if (do_growth) {
+    // Iridium 33 / Cosmos 2251: 560 kg + 950 kg at 11.7 km/s, Lc >= 10 cm (1,242 fragments).
+    ScheduledBreakup iridium = collision;
+    iridium.masses_kg = {560.0, 950.0};
+    try {
+      const BreakupRun r = run_with_breakup(leo, 2 * growth_steps, growth_steps, 0.10, iridium, true);
+      const StepTimingSink& s = *r.sink;
+      const double before = ns_per_object_step(s, 2, growth_steps - 1);
+      const double after = ns_per_object_step(s, growth_steps + 1, 2 * growth_steps);
+      const auto* a = s.after_by_fragments;
+      const auto* b = s.before_by_fragments;
+      std::fprintf(stderr,
+                   "growth: %llu fragments at the end of step %lld; %.1f ns/object-step before, %.1f after "
+                   "(%.3fx); encounters before %llu, after %llu (catalog-catalog %llu, "
+                   "fragment-catalog %llu, fragment-fragment %llu)\n",
+                   static_cast<unsigned long long>(s.fragments), static_cast<long long>(growth_steps), before,
+                   after, after / before, static_cast<unsigned long long>(b[0] + b[1] + b[2]),
+                   static_cast<unsigned long long>(a[0] + a[1] + a[2]), static_cast<unsigned long long>(a[0]),
+                   static_cast<unsigned long long>(a[1]), static_cast<unsigned long long>(a[2]));
+      line.add("growth_fragments", static_cast<std::int64_t>(s.fragments))
+          .add("growth_steps", growth_steps)
+          .add("ns_per_object_step_before", before)
+          .add("ns_per_object_step_after", after)
+          .add("after_over_before", after / before)
+          .add("breakup_step_s", s.step_s[static_cast<std::size_t>(growth_steps - 1)])
+          .add("conjunctions_before", static_cast<std::int64_t>(b[0] + b[1] + b[2]))
+          .add("conjunctions_after", static_cast<std::int64_t>(a[0] + a[1] + a[2]))
+          .add("conjunctions_after_catalog_catalog", static_cast<std::int64_t>(a[0]))
+          .add("conjunctions_after_fragment_catalog", static_cast<std::int64_t>(a[1]))
+          .add("conjunctions_after_fragment_fragment", static_cast<std::int64_t>(a[2]));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "kessler-bench breakup: growth run: %s\n", e.what());
+      return 1;
+    }
+  }
   line.print();
   return 0;
 }
@@ -74,7 +286,9 @@ int bench_breakup(int argc, char** argv) {
 
 KESSLER_BENCH("breakup",
               "NASA breakup model: fragments generated per second, catastrophic reference collision "
-              "(--lc-min 0.01, --threads 1, --repeats 3)",
+              "(--lc-min 0.01, --threads 1, --repeats 3); then leo-19647 runs with scheduled breakups: "
+              "insert_s of ~100,000 fragments (--skip-insert, --insert-step 30, --insert-after 5) and ns per "
+              "object-step before and after Iridium/Cosmos (--skip-growth, --growth-steps 300)",
               bench_breakup);
 
 }  // namespace kessler::bench
