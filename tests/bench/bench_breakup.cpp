@@ -228,7 +228,20 @@ int bench_breakup(int argc, char** argv) {
                    static_cast<unsigned long long>(r.sink->fragments), static_cast<long long>(insert_step),
                    st[static_cast<std::size_t>(insert_step - 1)], before, after,
                    static_cast<unsigned long long>(r.sink->objects_at_start.back()));
+      // The model alone on the same masses and speed into a fresh cloud (as the core generates it): the
+      // rest of insert_s is the population's side (parents out, fragments appended as records).
+      BreakupEvent alone = event;
+      alone.event_id = 0;
+      alone.min_characteristic_length_m = lc;
+      alone.parents[0].mass_kg = 1000.0;
+      alone.parents[1].mass_kg = total_mass - 1000.0;
+      const double g0 = now_s();
+      const FragmentCloud generated = generate_fragments(alone);
+      const double generate_s = now_s() - g0;
+      std::fprintf(stderr, "insert: the model alone, %zu fragments into a fresh cloud: %.4f s\n",
+                   generated.size(), generate_s);
       line.add("insert_fragments", static_cast<std::int64_t>(r.sink->fragments))
+          .add("insert_generate_s", generate_s)
           .add("insert_mass_kg", total_mass)
           .add("insert_s", insert_s)
           .add("insert_step_before_s", before)
