@@ -203,6 +203,7 @@ std::optional<KeptObject> object_properties(const IngestRules& rules, std::uint6
   kept.by_code = entry && entry->ops_status_code && is_active_status_code(*entry->ops_status_code);
   const bool by_list = active_ids.count(rec.id) > 0;
   rec.status = kept.by_code || by_list ? ObjectStatus::kActive : ObjectStatus::kPassive;
+  rec.type = entry ? object_type_from_satcat(entry->object_type) : ObjectType::kUnknown;
   return kept;
 }
 

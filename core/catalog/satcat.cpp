@@ -152,4 +152,11 @@ std::optional<std::string> read_catalog_file(const std::string& path, std::strin
   return out;
 }
 
+ObjectType object_type_from_satcat(const std::string& t) {
+  if (t == "PAYLOAD") return ObjectType::kPayload;
+  if (t == "ROCKET BODY") return ObjectType::kRocketBody;
+  if (t == "DEBRIS") return ObjectType::kDebris;
+  return ObjectType::kUnknown;
+}
+
 }  // namespace kessler

@@ -53,4 +53,7 @@ std::optional<std::string> read_catalog_file(const std::string& path, std::strin
 // S spare, X extended mission).
 bool is_active_status_code(char code);
 
+// The population's type for a normalised SATCAT object type (TBA and anything else: kUnknown).
+ObjectType object_type_from_satcat(const std::string& normalised_type);
+
 }  // namespace kessler

@@ -61,6 +61,8 @@ Population generate_synthetic(const SyntheticOptions& o, std::uint64_t seed) {
   p.drag_area_to_mass_m2_kg.resize(n);
   p.srp_area_to_mass_m2_kg.resize(n);
   p.status.resize(n);
+  p.type.resize(n, ObjectType::kUnknown);
+  p.separation_group.resize(n, 0);
 
   // Altitude bins overlapping the band.
   constexpr std::size_t kBins = sizeof kAltitudeCounts / sizeof kAltitudeCounts[0];

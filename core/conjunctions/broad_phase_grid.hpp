@@ -60,6 +60,10 @@ class BroadPhaseGrid {
 
   // Sizes the scratch for n objects and teams of up to `threads` threads (outside a parallel region).
   void prepare(std::size_t n, int threads);
+  // The separation rule (Population::separation_group, per object): two objects of the same non-zero
+  // group are never a candidate pair. Checked only on the pairs the filters keep, so a young breakup's
+  // cloud costs box tests but no memory. Null (the default): no groups.
+  void set_separation_groups(const std::uint32_t* groups) { groups_ = groups; }
   // Regions of space, one per thread: the x axis cut into slabs of whole cell columns, each slab's cells
   // hashed into its own range of 2^region_bits buckets (so into its own partitions, sorted and first
   // walked by its thread).
@@ -328,6 +332,12 @@ class BroadPhaseGrid {
   std::vector<std::uint64_t> slot_key_;
   std::vector<std::uint8_t> slot_crosses_;  // GridBox::crosses
   std::vector<std::uint32_t> slot_index_;
+  const std::uint32_t* groups_ = nullptr;  // set_separation_groups
+  // Appends the pair (population indices) unless the separation rule keeps it out.
+  void keep_pair(std::vector<CandidatePair>& out, std::uint32_t i, std::uint32_t j) const {
+    if (groups_ != nullptr && groups_[i] != 0 && groups_[i] == groups_[j]) return;
+    out.push_back(CandidatePair{i, j});
+  }
   std::vector<std::uint32_t> slot_chord_;    // GridBox::chord
   std::vector<std::uint32_t> bucket_start_;  // size buckets + 1
   std::vector<std::uint64_t> occupied_;      // one bit per bucket

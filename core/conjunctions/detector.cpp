@@ -114,6 +114,8 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
   const int threads = n >= kParallelMinimumObjects ? omp_get_max_threads() : 1;
   const bool use_hulls = use_hulls_;
   grid_.prepare(n, threads);
+  grid_.set_separation_groups(population.separation_group.size() == n ? population.separation_group.data()
+                                                                       : nullptr);
   per_thread_.resize(static_cast<std::size_t>(threads));
   // Cleared here: OpenMP may give the region fewer threads than asked for.
   for (ThreadLists& lists : per_thread_) {

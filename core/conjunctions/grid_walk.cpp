@@ -52,7 +52,7 @@ void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
       for (std::size_t p = o + 1; p < oversized_.size(); ++p) {
         const std::size_t j = oversized_[p];
         if (overlaps(j))
-          out.push_back(CandidatePair{static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)});
+          keep_pair(out, static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
       }
       continue;
     }
@@ -68,7 +68,7 @@ void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
           const std::size_t j = j0 + w + static_cast<std::size_t>(std::countr_zero(word)) / 8;
           // Oversized with oversized: once, from the lower index.
           if (j == i || (oversized_flag_[j] && j < i)) continue;
-          out.push_back(CandidatePair{static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)});
+          keep_pair(out, static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
         }
       }
     }
@@ -144,7 +144,7 @@ void BroadPhaseGrid::filter_hits(HitBatch& hits, std::vector<CandidatePair>& out
       const std::size_t hit = h + static_cast<std::size_t>(std::countr_zero(keep));
       keep &= keep - 1;
       if (key[hits.other[hit]] - hits.key_lo[hit] <= hits.span[hit])
-        out.push_back(CandidatePair{slot_index_[hits.self[hit]], slot_index_[hits.other[hit]]});
+        keep_pair(out, slot_index_[hits.self[hit]], slot_index_[hits.other[hit]]);
     }
   }
   hits.count = 0;
@@ -284,7 +284,7 @@ void BroadPhaseGrid::filter_hits(HitBatch& hits, std::vector<CandidatePair>& out
     line(m, b0, b1);
     if (chords_may_come_within(a0, a1, chord_word_reach_m(chord[k]), b0, b1, chord_word_reach_m(chord[m])) &&
         key[m] - hits.key_lo[h] <= hits.span[h])
-      out.push_back(CandidatePair{slot_index_[k], slot_index_[m]});
+      keep_pair(out, slot_index_[k], slot_index_[m]);
   }
   hits.count = 0;
 }

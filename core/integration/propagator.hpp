@@ -55,6 +55,9 @@ class Propagator {
   }
   // The chunks the last step shared out between threads, where they are not equal ones (else null).
   virtual const ChunkLayout* last_chunks() const { return nullptr; }
+  // Whether step() takes objects it was not built with (a breakup's fragments): a force model does,
+  // SGP4 (one element set per catalog object) does not.
+  virtual bool takes_new_objects() const { return true; }
 };
 
 }  // namespace kessler

@@ -29,6 +29,8 @@ void Population::reserve(std::size_t n) {
                   &drag_area_to_mass_m2_kg, &srp_area_to_mass_m2_kg})
     v->reserve(n);
   status.reserve(n);
+  type.reserve(n);
+  separation_group.reserve(n);
 }
 
 void Population::add(const ObjectRecord& r) {
@@ -45,6 +47,19 @@ void Population::add(const ObjectRecord& r) {
   drag_area_to_mass_m2_kg.push_back(r.drag_area_to_mass_m2_kg);
   srp_area_to_mass_m2_kg.push_back(r.srp_area_to_mass_m2_kg);
   status.push_back(r.status);
+  type.push_back(r.type);
+  separation_group.push_back(r.separation_group);
+}
+
+void Population::append_default(std::size_t n) {
+  const std::size_t m = size() + n;
+  id.resize(m, 0);
+  name.resize(m);
+  state.resize(m);
+  for (auto* v : {&radius_m, &mass_kg, &drag_area_to_mass_m2_kg, &srp_area_to_mass_m2_kg}) v->resize(m, 0.0);
+  status.resize(m, ObjectStatus::kPassive);
+  type.resize(m, ObjectType::kUnknown);
+  separation_group.resize(m, 0);
 }
 
 ObjectRecord Population::record(std::size_t i) const {
@@ -58,6 +73,8 @@ ObjectRecord Population::record(std::size_t i) const {
   r.drag_area_to_mass_m2_kg = drag_area_to_mass_m2_kg[i];
   r.srp_area_to_mass_m2_kg = srp_area_to_mass_m2_kg[i];
   r.status = status[i];
+  r.type = type[i];
+  r.separation_group = separation_group[i];
   return r;
 }
 
@@ -89,6 +106,8 @@ void Population::remove_flagged(const std::vector<char>& flags) {
                   &drag_area_to_mass_m2_kg, &srp_area_to_mass_m2_kg})
     compact(*v, removed);
   compact(status, removed);
+  compact(type, removed);
+  compact(separation_group, removed);
 }
 
 std::optional<std::size_t> Population::index_of(ObjectId object_id) const {

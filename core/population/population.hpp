@@ -20,6 +20,13 @@ using ObjectId = std::uint64_t;
 
 enum class ObjectStatus : std::uint8_t { kPassive = 0, kActive = 1 };
 
+// What an object is, as the SATCAT says (kUnknown where no SATCAT is given). Breakup fragments are
+// kDebris.
+enum class ObjectType : std::uint8_t { kUnknown = 0, kPayload = 1, kRocketBody = 2, kDebris = 3 };
+
+// A run's breakups are numbered 1, 2, ... in the order they happen; 0 is none.
+using BreakupId = std::uint32_t;
+
 // Positions and velocities of every object, index-aligned with the Population they belong to.
 struct StateArrays {
   std::vector<double> x, y, z;     // TEME of epoch [m]
@@ -43,6 +50,10 @@ struct ObjectRecord {
   double drag_area_to_mass_m2_kg = 0.0;  // Cd * A / m (ballistic coefficient's inverse)
   double srp_area_to_mass_m2_kg = 0.0;   // A / m facing the Sun (reflectivity 1)
   ObjectStatus status = ObjectStatus::kPassive;
+  ObjectType type = ObjectType::kUnknown;
+  // Objects with the same non-zero group are not screened against each other: a young breakup's
+  // fragments and remnant, while they separate (core/simulation/breakups.hpp). 0: screened against all.
+  BreakupId separation_group = 0;
 };
 
 class Population {
@@ -55,6 +66,8 @@ class Population {
   std::vector<double> drag_area_to_mass_m2_kg;
   std::vector<double> srp_area_to_mass_m2_kg;
   std::vector<ObjectStatus> status;
+  std::vector<ObjectType> type;
+  std::vector<BreakupId> separation_group;  // ObjectRecord::separation_group
 
   std::size_t size() const { return id.size(); }
   bool empty() const { return id.empty(); }
@@ -62,6 +75,9 @@ class Population {
 
   // Appends one object. Does not validate: call validate_record first where input is untrusted.
   void add(const ObjectRecord& record);
+  // Appends n objects with default columns (empty names, passive, kUnknown, group 0, zero state): the
+  // caller then fills indices [size() - n, size()) column by column (bulk insertion of fragments).
+  void append_default(std::size_t n);
   ObjectRecord record(std::size_t i) const;
 
   // Removes the objects whose flag is 1 (flags.size() == size(); each flag 0 or 1), keeping the order of

@@ -25,6 +25,7 @@ class Sgp4Propagator final : public Propagator {
   // SGP4 state so that burn-up detection removes it. Throws std::invalid_argument for an object
   // without an element set.
   void step(Population& population, double t_start_s, double dt_s) override;
+  bool takes_new_objects() const override { return false; }
   // The same at one instant t_s (for initial states).
   void set_states(Population& population, double t_s);
 

@@ -155,7 +155,15 @@ std::string encode_checkpoint(const CheckpointState& s) {
                         &p.radius_m, &p.mass_kg, &p.drag_area_to_mass_m2_kg, &p.srp_area_to_mass_m2_kg})
     w.doubles(*v);
   for (auto status : p.status) w.u8(static_cast<std::uint8_t>(status));
-  w.u64(s.next_fragment_id);
+  w.u64(s.breakups.next_fragment_id);
+  for (auto type : p.type) w.u8(static_cast<std::uint8_t>(type));
+  for (auto group : p.separation_group) w.u64(group);
+  w.u64(s.breakups.next_breakup_id);
+  w.u64(s.breakups.separating.size());
+  for (const SeparatingBreakup& b : s.breakups.separating) {
+    w.u64(b.group);
+    w.f64(b.until_s);
+  }
 
   const std::string& payload = w.bytes();
   Sha256 sum;
@@ -169,6 +177,34 @@ std::string encode_checkpoint(const CheckpointState& s) {
   out.bytes().append(reinterpret_cast<const char*>(digest.data()), digest.size());
   return std::move(out.bytes());
 }
+
+namespace {
+// Version 3's population types, separation groups and breakup bookkeeping.
+void read_breakups(Reader& r, CheckpointState& s) {
+  Population& p = s.population;
+  for (auto& type : p.type) {
+    const std::uint8_t v = r.u8("object types");
+    if (v > static_cast<std::uint8_t>(ObjectType::kDebris)) throw std::runtime_error("checkpoint: unknown object type");
+    type = static_cast<ObjectType>(v);
+  }
+  for (auto& group : p.separation_group) {
+    const std::uint64_t v = r.u64("separation groups");
+    if (v > 0xFFFFFFFFu) throw std::runtime_error("checkpoint: implausible separation group");
+    group = static_cast<BreakupId>(v);
+  }
+  const std::uint64_t next = r.u64("breakup counter");
+  if (next == 0 || next > 0xFFFFFFFFu) throw std::runtime_error("checkpoint: implausible breakup counter");
+  s.breakups.next_breakup_id = static_cast<BreakupId>(next);
+  const std::uint64_t separating = r.u64("separating breakups");
+  if (separating > next) throw std::runtime_error("checkpoint: implausible separating breakups");
+  for (std::uint64_t k = 0; k < separating; ++k) {
+    SeparatingBreakup b;
+    b.group = static_cast<BreakupId>(r.u64("separating breakups"));
+    b.until_s = r.f64("separating breakups");
+    s.breakups.separating.push_back(b);
+  }
+}
+}  // namespace
 
 CheckpointState decode_checkpoint(const std::string& bytes) {
   if (bytes.size() < sizeof kMagic + 4 + 8 + 32 || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
@@ -220,7 +256,10 @@ CheckpointState decode_checkpoint(const std::string& bytes) {
     if (v > 1) throw std::runtime_error("checkpoint: unknown object status");
     status = static_cast<ObjectStatus>(v);
   }
-  if (version >= 2) s.next_fragment_id = r.u64("fragment id counter");
+  p.type.assign(n, ObjectType::kUnknown);
+  p.separation_group.assign(n, 0);
+  if (version >= 2) s.breakups.next_fragment_id = r.u64("fragment id counter");
+  if (version >= 3) read_breakups(r, s);
   if (!r.at_end()) throw std::runtime_error("checkpoint: trailing bytes at the end");
   if (s.step < 0 || s.step > s.total_steps || s.next_seq == 0)
     throw std::runtime_error("checkpoint: inconsistent step counter or sequence number");

@@ -10,7 +10,7 @@
 #include "core/conjunctions/encounter.hpp"
 #include "core/population/population.hpp"
 #include "core/simulation/events.hpp"
-#include "core/simulation/scheduled_breakups.hpp"
+#include "core/simulation/breakups.hpp"
 
 namespace kessler {
 
@@ -25,13 +25,14 @@ struct CheckpointState : RunCounters {
   std::string events_digest_state;          // Sha256 running state over every event so far
   std::vector<Encounter> closest_per_pair;  // the closest encounter of every pair so far (canonical order)
   Population population;
-  // The id the next breakup fragment takes (scheduled_breakups.hpp). Version 1 has none: a run from it
-  // has made no fragments.
-  ObjectId next_fragment_id = kFirstFragmentId;
+  // The breakups' ids and separating groups (breakups.hpp). Version 1 has none (a run from it has made
+  // no fragments); version 2 only the fragment id counter.
+  BreakupIds breakups;
 };
 
-// Version 2 appends next_fragment_id after the population; version 1 is still read.
-inline constexpr std::uint32_t kCheckpointVersion = 2;
+// Version 2 appends next_fragment_id after the population; version 3 the population's types and
+// separation groups, the breakup counter and the separating breakups. Versions 1 and 2 are still read.
+inline constexpr std::uint32_t kCheckpointVersion = 3;
 inline constexpr std::uint32_t kOldestCheckpointVersion = 1;
 
 std::string encode_checkpoint(const CheckpointState& state);

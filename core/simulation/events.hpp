@@ -1,8 +1,8 @@
 // What leaves a running simulation: the one small interface the service and the tests implement.
 //
 // Every event carries a sequence number, assigned by the simulation in a deterministic order (step by
-// step; within a step: encounters in canonical order, then burn-ups by id, then scheduled breakups in
-// schedule order, then progress). A run resumed
+// step; within a step: encounters in canonical order, then burn-ups by id, then breakups (collisions in
+// canonical order, then scheduled ones in schedule order), then progress). A run resumed
 // from a checkpoint re-emits the events after the checkpoint's sequence number with the same numbers and
 // the same contents, so a consumer can store idempotently by sequence number.
 #pragma once
@@ -16,15 +16,22 @@
 #include "core/conjunctions/encounter.hpp"
 #include "core/integration/burn_up.hpp"
 #include "core/population/population.hpp"
-#include "core/simulation/scheduled_breakups.hpp"
+#include "core/simulation/breakups.hpp"
 
 namespace kessler {
+
+// Objects alive by type; fragments are the objects breakups made (Population::breakup_id != 0), the
+// other counts are the catalog's types.
+struct ObjectCounts {
+  std::uint64_t payload = 0, rocket_body = 0, debris = 0, unknown = 0, fragments = 0;
+};
 
 struct Progress {
   std::int64_t step = 0;  // steps completed
   std::int64_t total_steps = 0;
   double sim_time_s = 0.0;  // seconds since the scenario epoch
   std::uint64_t objects_alive = 0;
+  ObjectCounts objects_by_type;  // sums to objects_alive
   std::uint64_t events_so_far = 0;  // encounters + burn-ups + breakups emitted
   double wall_s = 0.0;              // wall time of this run so far (not deterministic)
   double eta_s = 0.0;               // estimated wall time left
@@ -89,7 +96,8 @@ class EventSink {
   virtual void on_encounter(std::uint64_t seq, const Encounter& encounter) = 0;
   virtual void on_burn_up(std::uint64_t seq, const BurnUp& burn_up) = 0;
   virtual void on_progress(std::uint64_t seq, const Progress& progress) = 0;
-  // A scheduled breakup (SimulationConfig::breakups); only runs with breakups enabled have them.
+  // A breakup (SimulationConfig::breakups, scheduled or a collision); only runs with breakups enabled
+  // have them.
   virtual void on_breakup(std::uint64_t /*seq*/, const BreakupReport& /*breakup*/) {}
   // A checkpoint, complete and self-contained: every event with a sequence number <= last_seq was
   // handed over before it. Store it atomically; a run resumes from these bytes.

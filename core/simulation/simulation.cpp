@@ -28,7 +28,9 @@ double seconds_since(Clock::time_point t0) {
 constexpr std::uint64_t kTagEncounter = 1, kTagBurnUp = 2, kTagProgress = 3, kTagBreakup = 4;
 
 void hash_breakup_settings(Sha256& h, const BreakupSettings& b) {
-  h.update("breakups-v1");
+  h.update("breakups-v2");
+  h.update_u64(static_cast<std::uint64_t>(b.on_collision));
+  h.update_f64(b.separation_s);
   h.update_f64(b.min_characteristic_length_m);
   h.update_u64(b.mass_conservation);
   h.update_f64(b.explosion_scale);
@@ -109,6 +111,8 @@ void hash_burn_up(Sha256& h, std::uint64_t seq, const BurnUp& b) {
 void hash_breakup(Sha256& h, std::uint64_t seq, const BreakupReport& b) {
   h.update_u64(kTagBreakup);
   h.update_u64(seq);
+  h.update_u64(b.breakup_id);
+  h.update_u64(static_cast<std::uint64_t>(b.source));
   h.update_u64(b.event_index);
   h.update_f64(b.time_s);
   h.update_u64(static_cast<std::uint64_t>(b.kind));
@@ -119,6 +123,12 @@ void hash_breakup(Sha256& h, std::uint64_t seq, const BreakupReport& b) {
   h.update_f64(b.fragment_mass_kg);
   h.update_u64(b.first_id);
   h.update_u64(b.last_id);
+  h.update_u64(b.remnant_id);
+  for (const FragmentReport& f : b.fragments) {
+    h.update_u64(f.id);
+    h.update_u64(f.parent_id);
+    for (double v : {f.characteristic_length_m, f.area_to_mass_m2_kg, f.mass_kg, f.delta_v_m_s}) h.update_f64(v);
+  }
 }
 
 // Only the deterministic fields: wall time and ETA differ between runs.
@@ -130,6 +140,23 @@ void hash_progress(Sha256& h, std::uint64_t seq, const Progress& p) {
   h.update_f64(p.sim_time_s);
   h.update_u64(p.objects_alive);
   h.update_u64(p.events_so_far);
+}
+
+ObjectCounts count_by_type(const Population& p) {
+  ObjectCounts c;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.id[i] >= kFirstFragmentId) {
+      ++c.fragments;
+      continue;
+    }
+    switch (p.type[i]) {
+      case ObjectType::kPayload: ++c.payload; break;
+      case ObjectType::kRocketBody: ++c.rocket_body; break;
+      case ObjectType::kDebris: ++c.debris; break;
+      case ObjectType::kUnknown: ++c.unknown; break;
+    }
+  }
+  return c;
 }
 
 std::string state_digest(const Population& p) {
@@ -164,7 +191,7 @@ struct Simulation::State {
   Sha256 events_hash;
   ClosestEncounterTable closest;
   std::int64_t last_checkpoint_step = -1;
-  ObjectId next_fragment_id = kFirstFragmentId;  // run-level: fragment ids never repeat in a run
+  BreakupIds breakups;  // run-level: fragment ids and breakup numbers never repeat in a run
 
   CheckpointState snapshot(double wall_s) const {
     CheckpointState c;
@@ -178,7 +205,7 @@ struct Simulation::State {
     c.events_digest_state = events_hash.save_state();
     c.closest_per_pair = closest.entries();
     c.population = population;
-    c.next_fragment_id = next_fragment_id;
+    c.breakups = breakups;
     return c;
   }
 };
@@ -186,6 +213,9 @@ struct Simulation::State {
 Simulation::Simulation(const SimulationConfig& config, Population population, SimulationParts parts)
     : state_(std::make_unique<State>()) {
   if (!parts.propagator) throw std::invalid_argument("simulation: no propagator");
+  if (config.breakups.enabled && !parts.propagator->takes_new_objects())
+    throw std::invalid_argument("breakups.enabled: breakups need the numerical propagator (SGP4 cannot "
+                                "move fragments, which have no element sets)");
   state_->config = config;
   state_->key = config_key(config);
   state_->parts = std::move(parts);
@@ -213,7 +243,7 @@ std::unique_ptr<Simulation> Simulation::resume(const SimulationConfig& config, c
     throw std::runtime_error("checkpoint: events digest state is malformed");
   for (const auto& e : c.closest_per_pair) s.closest.update(e);
   s.last_checkpoint_step = c.step;
-  s.next_fragment_id = c.next_fragment_id;
+  s.breakups = c.breakups;
   return sim;
 }
 
@@ -256,7 +286,8 @@ struct Simulation::RunLoop {
   void emit_encounters(const std::vector<Encounter>& step_encounters);
   void emit_burn_ups();
   void remove_burn_ups();
-  void break_up();
+  void break_up(const std::vector<Encounter>& step_encounters);
+  void emit_breakup(const BreakupReport& report);
   void emit_progress(double t1_s);
   RunSummary finish();
 
@@ -277,6 +308,8 @@ struct Simulation::RunLoop {
   // What each step asks of the propagator besides the steps in flight's copies: the burn-up flags in
   // the same pass, unless a finder is given.
   const bool flag_in_step;
+  // Collisions the detector finds break their objects up (breakups on, on_collision fragment).
+  const bool collisions_fragment;
   StepRequest request;
   std::unique_ptr<StepsInFlight> flight;
   std::vector<std::vector<Encounter>> encounters;  // per step of the batch
@@ -292,7 +325,10 @@ Simulation::RunLoop::RunLoop(State& state, EventSink& event_sink, RunControl& ru
       last_checkpoint_wall(run_start),
       first_step(state.step),
       progress_every(progress_interval(state.config, state.total_steps)),
-      flag_in_step(state.parts.burn_up && !state.parts.find_burn_ups) {
+      flag_in_step(state.parts.burn_up && !state.parts.find_burn_ups),
+      collisions_fragment(state.config.breakups.enabled &&
+                          state.config.breakups.on_collision == CollisionResponse::kFragment &&
+                          state.parts.scanner != nullptr) {
   if (flag_in_step) {
     request.burn_up_flags = &flags;
     request.burn_up_radius2 = burn_up_radius2(cfg.burn_up_altitude_m);
@@ -373,10 +409,16 @@ std::size_t Simulation::RunLoop::propagate_batch() {
       std::min(s.total_steps, s.step + (flight ? static_cast<std::int64_t>(flight->capacity()) : 1));
   if (cfg.checkpoint_every_steps > 0)
     batch_end = std::min(batch_end, (s.step / cfg.checkpoint_every_steps + 1) * cfg.checkpoint_every_steps);
-  // A breakup changes the population at its boundary: the batch ends there.
+  // A breakup changes the population at its boundary, and so does the end of a separation (pairs are
+  // screened from then on): the batch ends there. Where collisions fragment, any step may end with a
+  // breakup: one step at a time (each on the whole team).
   if (const auto breakup = next_breakup_step(cfg.breakups, s.step, cfg.dt_s))
     batch_end = std::min(batch_end, *breakup);
+  if (const auto parted = next_separation_end_step(s.breakups, s.step, cfg.dt_s))
+    batch_end = std::min(batch_end, *parted);
+  if (collisions_fragment) batch_end = std::min(batch_end, s.step + 1);
   Population& pop = s.population;
+  end_separations(static_cast<double>(s.step) * cfg.dt_s, pop, s.breakups);
   const std::int64_t batch_start = s.step;
   std::int64_t next = batch_start;
   burned.clear();
@@ -431,7 +473,7 @@ void Simulation::RunLoop::emit_batch(std::size_t steps) {
     if (j + 1 == steps) {
       emit_burn_ups();
       remove_burn_ups();
-      break_up();
+      break_up(encounters[j]);
     }
     ++s.step;
     if (s.step % progress_every == 0 || s.step == s.total_steps) emit_progress(t1_s);
@@ -468,24 +510,37 @@ void Simulation::RunLoop::remove_burn_ups() {
   if (!burned.empty()) s.population.remove_flagged(flags);
 }
 
-// The breakups due at the boundary the batch ends on (s.step + 1), in schedule order: parents replaced
-// by fragments from their end-of-step states, one event each. Fragment generation counts as burn-up
-// time (the phase that changes the population).
-void Simulation::RunLoop::break_up() {
+// The breakups at the boundary the batch ends on (s.step + 1): first the step's collisions (canonical
+// order; they end a one-step batch) broken up at their times of closest approach, then the scheduled
+// events due there (schedule order); each replaces its parents by fragments, one event each. Fragment
+// generation counts as burn-up time (the phase that changes the population).
+void Simulation::RunLoop::break_up(const std::vector<Encounter>& step_encounters) {
   if (!cfg.breakups.enabled) return;
   auto t = Clock::now();
   const std::int64_t boundary = s.step + 1;
   const double t1_s = static_cast<double>(boundary) * cfg.dt_s;
-  for (std::size_t index : breakups_due(cfg.breakups, boundary, cfg.dt_s)) {
-    const std::optional<BreakupReport> report =
-        apply_scheduled_breakup(cfg.breakups, index, cfg.seed, t1_s, s.population, s.next_fragment_id);
-    if (!report) continue;
-    const std::uint64_t seq = s.next_seq++;
-    hash_breakup(s.events_hash, seq, *report);
-    ++s.counters.events;
-    sink.on_breakup(seq, *report);
+  if (collisions_fragment) {
+    const PropagateObjects propagate = [this](Population& objects, double t_start_s, double t_end_s) {
+      s.parts.propagator->step(objects, t_start_s, t_end_s - t_start_s);
+    };
+    for (const Encounter& e : step_encounters) {
+      if (e.kind != EncounterKind::kCollision) continue;
+      if (const auto report =
+              apply_collision_breakup(cfg.breakups, e, cfg.seed, t1_s, s.population, s.breakups, propagate))
+        emit_breakup(*report);
+    }
   }
+  for (std::size_t index : breakups_due(cfg.breakups, boundary, cfg.dt_s))
+    if (const auto report = apply_scheduled_breakup(cfg.breakups, index, cfg.seed, t1_s, s.population, s.breakups))
+      emit_breakup(*report);
   timers.burn_up_s += seconds_since(t);
+}
+
+void Simulation::RunLoop::emit_breakup(const BreakupReport& report) {
+  const std::uint64_t seq = s.next_seq++;
+  hash_breakup(s.events_hash, seq, report);
+  ++s.counters.events;
+  sink.on_breakup(seq, report);
 }
 
 // Progress after step s.step, ending at t1_s.
@@ -495,6 +550,7 @@ void Simulation::RunLoop::emit_progress(double t1_s) {
   p.total_steps = s.total_steps;
   p.sim_time_s = t1_s;
   p.objects_alive = s.population.size();
+  p.objects_by_type = count_by_type(s.population);
   p.events_so_far = s.counters.events;
   p.wall_s = wall_now();
   const double session_wall = seconds_since(run_start);

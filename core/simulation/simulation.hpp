@@ -38,7 +38,7 @@ struct SimulationConfig {
   // per thread where their memory fits steps_in_flight_for's budget, else 1; 1: one step at a time on
   // the whole team. Never changes a result.
   int scan_steps_at_once = 0;
-  // Scheduled breakups (scheduled_breakups.hpp); off by default, and then nothing of them runs.
+  // Scheduled breakups (breakups.hpp); off by default, and then nothing of them runs.
   BreakupSettings breakups;
 };
 

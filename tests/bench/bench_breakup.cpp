@@ -27,7 +27,7 @@
 #include "core/catalog/bundled_datasets.hpp"
 #include "core/catalog/leo19647.hpp"
 #include "core/integration/symplectic_propagator.hpp"
-#include "core/simulation/scheduled_breakups.hpp"
+#include "core/simulation/breakups.hpp"
 #include "core/simulation/simulation.hpp"
 #include "core/simulation/simulation_parts.hpp"
 #include "tests/bench/bench.hpp"

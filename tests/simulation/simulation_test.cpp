@@ -283,7 +283,7 @@ TEST(Simulation, CorruptOrForeignCheckpointsAreRefused) {
   std::string future = good;
   future[8] = 9;
   EXPECT_EQ(message(future, config),
-            "checkpoint: format version 9 is not supported (this build reads 1 to 2)");
+            "checkpoint: format version 9 is not supported (this build reads 1 to 3)");
   auto other = config;
   other.dt_s = 5.0;
   EXPECT_NE(message(good, other).find("different scenario"), std::string::npos);
@@ -310,9 +310,20 @@ TEST(Simulation, CheckpointRoundTripKeepsEveryField) {
   e.r2_m = {7, 8, 9};
   e.v2_m_s = {10, 11, 12};
   s.closest_per_pair.push_back(e);
-  s.next_fragment_id = kFirstFragmentId + 123;
+  s.breakups.next_fragment_id = kFirstFragmentId + 123;
+  s.breakups.next_breakup_id = 4;
+  s.breakups.separating = {{2, 1234.5}, {3, 1e9 / 7.0}};
+  s.population.type[1] = ObjectType::kRocketBody;
+  s.population.type[2] = ObjectType::kDebris;
+  s.population.separation_group[5] = 3;
   CheckpointState back = decode_checkpoint(encode_checkpoint(s));
-  EXPECT_EQ(back.next_fragment_id, kFirstFragmentId + 123);
+  EXPECT_EQ(back.breakups.next_fragment_id, kFirstFragmentId + 123);
+  EXPECT_EQ(back.breakups.next_breakup_id, 4u);
+  ASSERT_EQ(back.breakups.separating.size(), 2u);
+  EXPECT_EQ(back.breakups.separating[1].group, 3u);
+  EXPECT_EQ(back.breakups.separating[1].until_s, 1e9 / 7.0);
+  EXPECT_EQ(back.population.type, s.population.type);
+  EXPECT_EQ(back.population.separation_group, s.population.separation_group);
   EXPECT_EQ(back.step, 5);
   EXPECT_EQ(back.next_seq, 42u);
   EXPECT_EQ(back.seed, 77u);
