@@ -73,7 +73,8 @@ BreakupParent model_parent(const Population& population, std::size_t i, BreakupK
 
 // The cloud's fragments as passive debris, appended column by column (no per-object strings: a
 // fragment's name is empty, hosts show "FRAGMENT <id>"): drag Cd A / m with Cd = 2.2, SRP A / m.
-void append_fragments(const FragmentCloud& c, BreakupId breakup_id, ObjectId first_id, Population& p) {
+// `group`: their separation group (0 when the rule is off).
+void append_fragments(const FragmentCloud& c, BreakupId group, ObjectId first_id, Population& p) {
   const std::size_t base = p.size(), n = c.size();
   p.append_default(n);
   for (std::size_t k = 0; k < n; ++k) {
@@ -90,7 +91,7 @@ void append_fragments(const FragmentCloud& c, BreakupId breakup_id, ObjectId fir
     p.drag_area_to_mass_m2_kg[i] = constants::kDefaultDragCoefficient * c.area_to_mass_m2_kg[k];
     p.srp_area_to_mass_m2_kg[i] = c.area_to_mass_m2_kg[k];
     p.type[i] = ObjectType::kDebris;
-    p.separation_group[i] = breakup_id;
+    p.separation_group[i] = group;
   }
 }
 
@@ -130,6 +131,7 @@ BreakupReport report_of(const FragmentCloud& cloud, const BreakupEvent& event, B
 std::optional<std::size_t> replace_parents(const BreakupSettings& settings, double time_s,
                                            const FragmentCloud& cloud, const std::vector<std::size_t>& at,
                                            BreakupId breakup_id, Population& population, BreakupIds& ids) {
+  const bool separates = cloud.size() > 0 && settings.separation_s > 0.0;
   std::optional<std::size_t> remnant_at;
   std::vector<char> flags(population.size(), 0);
   for (std::size_t k = 0; k < at.size(); ++k) {
@@ -141,7 +143,7 @@ std::optional<std::size_t> replace_parents(const BreakupSettings& settings, doub
       population.state.vy[i] = m.velocity_m_s[1];
       population.state.vz[i] = m.velocity_m_s[2];
       // Separated from its fragments as they are from each other (the separation rule).
-      population.separation_group[i] = cloud.size() > 0 && settings.separation_s > 0.0 ? breakup_id : 0;
+      population.separation_group[i] = separates ? breakup_id : 0;
       remnant_at = i;
       continue;
     }
@@ -154,9 +156,8 @@ std::optional<std::size_t> replace_parents(const BreakupSettings& settings, doub
     *remnant_at -= shift;
   }
   population.remove_flagged(flags);
-  append_fragments(cloud, breakup_id, ids.next_fragment_id, population);
-  if (cloud.size() > 0 && settings.separation_s > 0.0)
-    ids.separating.push_back({breakup_id, time_s + settings.separation_s});
+  append_fragments(cloud, separates ? breakup_id : 0, ids.next_fragment_id, population);
+  if (separates) ids.separating.push_back({breakup_id, time_s + settings.separation_s});
   ids.next_fragment_id += cloud.size();
   return remnant_at;
 }
@@ -203,8 +204,8 @@ std::optional<BreakupReport> apply_scheduled_breakup(const BreakupSettings& sett
   for (std::size_t k = 0; k < at.size(); ++k) {
     const std::size_t i = at[k];
     const double mass = k < b.masses_kg.size() ? b.masses_kg[k] : population.mass_kg[i];
-    event.parents.push_back(
-        model_parent(population, i, b.kind, mass, population.state.position(i), population.state.velocity(i)));
+    event.parents.push_back(model_parent(population, i, b.kind, mass, population.state.position(i),
+                                         population.state.velocity(i)));
   }
   const FragmentCloud cloud = generate_fragments(event);
   ++ids.next_breakup_id;
@@ -215,10 +216,10 @@ std::optional<BreakupReport> apply_scheduled_breakup(const BreakupSettings& sett
   return r;
 }
 
-std::optional<BreakupReport> apply_collision_breakup(const BreakupSettings& settings, const Encounter& collision,
-                                                     std::uint64_t seed, double step_end_s,
-                                                     Population& population, BreakupIds& ids,
-                                                     const PropagateObjects& propagate) {
+std::optional<BreakupReport> apply_collision_breakup(const BreakupSettings& settings,
+                                                     const Encounter& collision, std::uint64_t seed,
+                                                     double step_end_s, Population& population,
+                                                     BreakupIds& ids, const PropagateObjects& propagate) {
   const std::optional<std::size_t> i1 = population.index_of(collision.id1);
   const std::optional<std::size_t> i2 = population.index_of(collision.id2);
   if (!i1 || !i2) return std::nullopt;
@@ -235,7 +236,7 @@ std::optional<BreakupReport> apply_collision_breakup(const BreakupSettings& sett
   // The fragments (and the remnant, from its parent's position at TCA) travel from TCA to the step's end.
   Population moving;
   const std::size_t n = cloud.size();
-  append_fragments(cloud, breakup_id, ids.next_fragment_id, moving);
+  append_fragments(cloud, 0, ids.next_fragment_id, moving);
   if (cloud.remnant) {
     const BreakupParent& parent = event.parents[cloud.remnant->parent_index];
     ObjectRecord rec = population.record(cloud.remnant->parent_index == 0 ? *i1 : *i2);
@@ -253,8 +254,10 @@ std::optional<BreakupReport> apply_collision_breakup(const BreakupSettings& sett
     cloud.velocity_m_s.y[k] = moving.state.vy[k];
     cloud.velocity_m_s.z[k] = moving.state.vz[k];
   }
-  if (cloud.remnant) cloud.remnant->velocity_m_s = {moving.state.vx[n], moving.state.vy[n], moving.state.vz[n]};
-  const std::optional<std::size_t> remnant_at = replace_parents(settings, collision.tca_s, cloud, {*i1, *i2}, breakup_id, population, ids);
+  if (cloud.remnant)
+    cloud.remnant->velocity_m_s = {moving.state.vx[n], moving.state.vy[n], moving.state.vz[n]};
+  const std::optional<std::size_t> remnant_at =
+      replace_parents(settings, collision.tca_s, cloud, {*i1, *i2}, breakup_id, population, ids);
   if (remnant_at) population.state.set(*remnant_at, moving.state.position(n), moving.state.velocity(n));
   return r;
 }

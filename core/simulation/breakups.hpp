@@ -78,8 +78,8 @@ struct BreakupReport {
   double specific_energy_j_per_g = 0.0;  // collisions; explosions 0
   std::uint64_t fragment_count = 0;
   double fragment_mass_kg = 0.0;
-  ObjectId first_id = 0, last_id = 0;  // the new ids, first_id..last_id; both 0 when none
-  ObjectId remnant_id = 0;             // a non-catastrophic collision's target (it keeps its id); else 0
+  ObjectId first_id = 0, last_id = 0;     // the new ids, first_id..last_id; both 0 when none
+  ObjectId remnant_id = 0;                // a non-catastrophic collision's target (it keeps its id); else 0
   std::vector<FragmentReport> fragments;  // first_id..last_id in order
 };
 
@@ -130,9 +130,9 @@ using PropagateObjects = std::function<void(Population& objects, double t_start_
 // from their states at the time of closest approach (the encounter's r, v); the fragments (and a
 // non-catastrophic collision's remnant) are brought to step_end_s by `propagate` and join the population.
 // Either object already gone (an earlier collision of the step): nothing happens, nullopt.
-std::optional<BreakupReport> apply_collision_breakup(const BreakupSettings& settings, const Encounter& collision,
-                                                     std::uint64_t seed, double step_end_s,
-                                                     Population& population, BreakupIds& ids,
-                                                     const PropagateObjects& propagate);
+std::optional<BreakupReport> apply_collision_breakup(const BreakupSettings& settings,
+                                                     const Encounter& collision, std::uint64_t seed,
+                                                     double step_end_s, Population& population,
+                                                     BreakupIds& ids, const PropagateObjects& propagate);
 
 }  // namespace kessler

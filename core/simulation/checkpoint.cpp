@@ -184,7 +184,8 @@ void read_breakups(Reader& r, CheckpointState& s) {
   Population& p = s.population;
   for (auto& type : p.type) {
     const std::uint8_t v = r.u8("object types");
-    if (v > static_cast<std::uint8_t>(ObjectType::kDebris)) throw std::runtime_error("checkpoint: unknown object type");
+    if (v > static_cast<std::uint8_t>(ObjectType::kDebris))
+      throw std::runtime_error("checkpoint: unknown object type");
     type = static_cast<ObjectType>(v);
   }
   for (auto& group : p.separation_group) {

@@ -127,7 +127,8 @@ void hash_breakup(Sha256& h, std::uint64_t seq, const BreakupReport& b) {
   for (const FragmentReport& f : b.fragments) {
     h.update_u64(f.id);
     h.update_u64(f.parent_id);
-    for (double v : {f.characteristic_length_m, f.area_to_mass_m2_kg, f.mass_kg, f.delta_v_m_s}) h.update_f64(v);
+    for (double v : {f.characteristic_length_m, f.area_to_mass_m2_kg, f.mass_kg, f.delta_v_m_s})
+      h.update_f64(v);
   }
 }
 
@@ -150,10 +151,18 @@ ObjectCounts count_by_type(const Population& p) {
       continue;
     }
     switch (p.type[i]) {
-      case ObjectType::kPayload: ++c.payload; break;
-      case ObjectType::kRocketBody: ++c.rocket_body; break;
-      case ObjectType::kDebris: ++c.debris; break;
-      case ObjectType::kUnknown: ++c.unknown; break;
+      case ObjectType::kPayload:
+        ++c.payload;
+        break;
+      case ObjectType::kRocketBody:
+        ++c.rocket_body;
+        break;
+      case ObjectType::kDebris:
+        ++c.debris;
+        break;
+      case ObjectType::kUnknown:
+        ++c.unknown;
+        break;
     }
   }
   return c;
@@ -214,8 +223,9 @@ Simulation::Simulation(const SimulationConfig& config, Population population, Si
     : state_(std::make_unique<State>()) {
   if (!parts.propagator) throw std::invalid_argument("simulation: no propagator");
   if (config.breakups.enabled && !parts.propagator->takes_new_objects())
-    throw std::invalid_argument("breakups.enabled: breakups need the numerical propagator (SGP4 cannot "
-                                "move fragments, which have no element sets)");
+    throw std::invalid_argument(
+        "breakups.enabled: breakups need the numerical propagator (SGP4 cannot "
+        "move fragments, which have no element sets)");
   state_->config = config;
   state_->key = config_key(config);
   state_->parts = std::move(parts);
@@ -531,7 +541,8 @@ void Simulation::RunLoop::break_up(const std::vector<Encounter>& step_encounters
     }
   }
   for (std::size_t index : breakups_due(cfg.breakups, boundary, cfg.dt_s))
-    if (const auto report = apply_scheduled_breakup(cfg.breakups, index, cfg.seed, t1_s, s.population, s.breakups))
+    if (const auto report =
+            apply_scheduled_breakup(cfg.breakups, index, cfg.seed, t1_s, s.population, s.breakups))
       emit_breakup(*report);
   timers.burn_up_s += seconds_since(t);
 }

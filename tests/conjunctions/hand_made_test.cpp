@@ -2,6 +2,7 @@
 // and straight-line motions whose numbers are exact in floating point.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/conjunctions/detector.hpp"
@@ -68,6 +69,28 @@ TEST(HandMade, OvertakingInTheSamePlane) {
   EXPECT_NEAR(events[0].tca_s, tc, 0.5);
   EXPECT_NEAR(events[0].miss_distance_m, 1000.0, 0.01);
   EXPECT_LT(events[0].relative_speed_m_s, 1.0);
+}
+
+// The separation rule (Population::separation_group): a real approach between two objects of the same
+// non-zero group is not reported; in different groups, or with one in none, it is. Six objects cross
+// in pairs far apart from each other, each pair with its own groups.
+TEST(HandMade, ASharedSeparationGroupHidesThePairAndNothingElse) {
+  const double tc = 55.5, r1 = kRadius, r2 = kRadius + 80.0;
+  std::vector<KeplerState> objects;
+  for (double theta : {0.0, 2.0, 4.0}) {
+    const Eigen::Vector3d e1 = std::cos(theta) * X + std::sin(theta) * Y,
+                          e2 = -std::sin(theta) * X + std::cos(theta) * Y;
+    objects.push_back(circular(r1, e1, e2, -rate(r1) * tc));
+    objects.push_back(circular(r2, e1, Z, -rate(r2) * tc));
+  }
+  auto pop = testing::simple_population(objects, 5.0);
+  pop.separation_group = {3, 3, 3, 4, 0, 3};  // the first pair shares a group; the others do not
+  const auto events = testing::run_detector(pop, testing::kepler_snapshots(objects, 10.0, 12), 10.0, {});
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(std::min(events[0].id1, events[1].id1), 3u);
+  EXPECT_EQ(std::max(events[0].id1, events[1].id1), 5u);
+  pop.separation_group.assign(6, 0);
+  EXPECT_EQ(testing::run_detector(pop, testing::kepler_snapshots(objects, 10.0, 12), 10.0, {}).size(), 3u);
 }
 
 TEST(HandMade, CrossingAtRightAngles) {
