@@ -292,6 +292,7 @@ struct Simulation::RunLoop {
   void write_checkpoint();
   std::size_t propagate_batch();
   void scan_batch(std::size_t steps);
+  std::size_t cut_at_collision(std::size_t steps);
   void emit_batch(std::size_t steps);
   void emit_encounters(const std::vector<Encounter>& step_encounters);
   void emit_burn_ups();
@@ -362,7 +363,7 @@ RunSummary Simulation::RunLoop::run() {
       }
       const std::size_t steps = propagate_batch();
       scan_batch(steps);
-      emit_batch(steps);
+      emit_batch(cut_at_collision(steps));
     }
   } catch (const std::exception& e) {
     sink.on_failed(e.what());
@@ -421,12 +422,11 @@ std::size_t Simulation::RunLoop::propagate_batch() {
     batch_end = std::min(batch_end, (s.step / cfg.checkpoint_every_steps + 1) * cfg.checkpoint_every_steps);
   // A breakup changes the population at its boundary, and so does the end of a separation (pairs are
   // screened from then on): the batch ends there. Where collisions fragment, any step may end with a
-  // breakup: one step at a time (each on the whole team).
+  // breakup: the batch is cut after such a step (cut_at_collision).
   if (const auto breakup = next_breakup_step(cfg.breakups, s.step, cfg.dt_s))
     batch_end = std::min(batch_end, *breakup);
   if (const auto parted = next_separation_end_step(s.breakups, s.step, cfg.dt_s))
     batch_end = std::min(batch_end, *parted);
-  if (collisions_fragment) batch_end = std::min(batch_end, s.step + 1);
   Population& pop = s.population;
   end_separations(static_cast<double>(s.step) * cfg.dt_s, pop, s.breakups);
   const std::int64_t batch_start = s.step;
@@ -471,6 +471,23 @@ void Simulation::RunLoop::scan_batch(std::size_t steps) {
     }
     flight->restart();
   }
+}
+
+// Where collisions fragment, a collision in step j of the batch ends the batch there: the population
+// goes back to the end of step j (the copy the steps in flight kept; the propagator's steps are per
+// object, so the steps after are simply taken again from there), and the later steps' encounters and
+// burn-ups (found on the batch's last step only) are dropped. Returns the steps kept.
+std::size_t Simulation::RunLoop::cut_at_collision(std::size_t steps) {
+  if (!collisions_fragment || !flight) return steps;
+  for (std::size_t j = 0; j + 1 < steps; ++j) {
+    const bool collided = std::any_of(encounters[j].begin(), encounters[j].end(),
+                                      [](const Encounter& e) { return e.kind == EncounterKind::kCollision; });
+    if (!collided) continue;
+    s.population.state = flight->start_of(j + 1);
+    burned.clear();
+    return j + 1;
+  }
+  return steps;
 }
 
 // Events, step by step, in sequence order: encounters (canonical), burn-ups (by id, on the batch's last

@@ -84,6 +84,10 @@ class StepsInFlight {
   // its own time, averaged over the steps).
   double last_scan_s() const { return last_scan_s_; }
   double last_grid_s() const { return last_grid_s_; }
+  // The start states of step j (> 0) of the last batch: the end of step j - 1, bit for bit. Kept until
+  // the next batch's first step, so that a batch cut short (a collision that breaks up in an earlier
+  // step) can go back to that boundary.
+  const StateArrays& start_of(std::size_t j) const { return starts_.at(j); }
 
  private:
   struct HeldStep {
