@@ -20,6 +20,10 @@ enum class RandomPurpose : std::uint64_t {
   kBreakupAreaToMassBranch = 18,
   kBreakupNormal = 19,
   kBreakupDirection = 20,
+  // Launch traffic and lifecycles (core/traffic/): id is the plan row (launch orbits) or the object
+  // (disposal).
+  kLaunchOrbit = 32,
+  kDisposal = 33,
 };
 
 // SplitMix64's finaliser (Steele, Lea & Flood 2014): a bijective 64-bit mix.
