@@ -81,8 +81,7 @@ std::optional<FieldError> validate_objects(const v1::ScheduledBreakup& s, const 
     return FieldError{path + ".objects[1]", "is objects[0] again (" + std::to_string(s.objects(0)) +
                                                 "); a collision takes two distinct objects"};
   if (s.has_impact_speed_m_s()) {
-    if (explosion)
-      return FieldError{path + ".impact_speed_m_s", "only a collision takes an impact speed"};
+    if (explosion) return FieldError{path + ".impact_speed_m_s", "only a collision takes an impact speed"};
     if (auto e = non_negative_finite(s.impact_speed_m_s(), path + ".impact_speed_m_s")) return e;
   }
   if (s.masses_kg_size() != 0 && s.masses_kg_size() != s.objects_size())
@@ -99,8 +98,8 @@ std::optional<FieldError> validate_scheduled(const v1::ScheduledBreakup& s, cons
   if (s.kind() == v1::BREAKUP_KIND_UNSPECIFIED)
     return FieldError{path + ".kind", "is required (explosion or collision)"};
   if (!v1::BreakupKind_IsValid(s.kind()))
-    return FieldError{path + ".kind",
-                      "unknown value " + std::to_string(s.kind()) + " (expected one of: explosion, collision)"};
+    return FieldError{path + ".kind", "unknown value " + std::to_string(s.kind()) +
+                                          " (expected one of: explosion, collision)"};
   return validate_objects(s, path);
 }
 
@@ -142,12 +141,13 @@ std::optional<FieldError> check_fragment_count(const BreakupSettings& settings, 
 
 }  // namespace
 
-std::optional<FieldError> validate_breakups(const v1::Scenario& scenario, const UtcEpoch& start, double run_s) {
+std::optional<FieldError> validate_breakups(const v1::Scenario& scenario, const UtcEpoch& start,
+                                            double run_s) {
   const v1::Breakups& b = scenario.breakups();
   if (auto e = validate_settings(b, scenario.propagator())) return e;
   for (int i = 0; i < b.scheduled_size(); ++i)
-    if (auto e = validate_scheduled(b.scheduled(i), "breakups.scheduled[" + std::to_string(i) + "]", start,
-                                    run_s))
+    if (auto e =
+            validate_scheduled(b.scheduled(i), "breakups.scheduled[" + std::to_string(i) + "]", start, run_s))
       return e;
   const BreakupSettings settings = breakup_settings_of(b, start);
   for (std::size_t i = 0; i < settings.scheduled.size(); ++i)
@@ -173,10 +173,10 @@ BreakupSettings breakup_settings_of(const v1::Breakups& b, const UtcEpoch& start
   BreakupSettings s;
   s.enabled = b.has_enabled() && b.enabled();
   s.on_collision = b.on_collision() == v1::COLLISION_RESPONSE_RECORD_ONLY ? CollisionResponse::kRecordOnly
-                                                                         : CollisionResponse::kFragment;
+                                                                          : CollisionResponse::kFragment;
   s.separation_s = b.has_separation_s() ? b.separation_s() : d::kBreakupSeparationS;
-  s.min_characteristic_length_m =
-      b.has_min_characteristic_length_m() ? b.min_characteristic_length_m() : d::kBreakupMinCharacteristicLengthM;
+  s.min_characteristic_length_m = b.has_min_characteristic_length_m() ? b.min_characteristic_length_m()
+                                                                      : d::kBreakupMinCharacteristicLengthM;
   s.mass_conservation = b.has_mass_conservation() ? b.mass_conservation() : true;
   s.explosion_scale = b.has_explosion_scale_s() ? b.explosion_scale_s() : d::kBreakupExplosionScale;
   s.max_fragments_per_event =

@@ -14,7 +14,8 @@ namespace kessler {
 
 // Range and consistency checks of scenario.breakups that need no population. `start` is the run's start
 // epoch and run_s its simulated length (whole steps), which bound the scheduled epochs.
-std::optional<FieldError> validate_breakups(const v1::Scenario& scenario, const UtcEpoch& start, double run_s);
+std::optional<FieldError> validate_breakups(const v1::Scenario& scenario, const UtcEpoch& start,
+                                            double run_s);
 
 // Checks of the scheduled events against the population the run starts with: every object exists, and
 // collisions whose masses come from the population stay within max_fragments_per_event. Disabled

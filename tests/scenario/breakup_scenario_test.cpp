@@ -83,12 +83,14 @@ const Case kRefusals[] = {
     {"impact speed of an explosion",
      third_event("{epoch: 2009-02-10T15:00:00Z, kind: explosion, objects: [4], impact_speed_m_s: 100}"),
      "breakups.scheduled[2].impact_speed_m_s: only a collision takes an impact speed"},
-    {"one mass of two", third_event("{epoch: 2009-02-10T15:00:00Z, kind: collision, objects: [4, 5], masses_kg: [10]}"),
+    {"one mass of two",
+     third_event("{epoch: 2009-02-10T15:00:00Z, kind: collision, objects: [4, 5], masses_kg: [10]}"),
      "breakups.scheduled[2].masses_kg: give one mass per object (2) or none, got 1"},
     {"mass zero",
      third_event("{epoch: 2009-02-10T15:00:00Z, kind: collision, objects: [4, 5], masses_kg: [10, 0]}"),
      "breakups.scheduled[2].masses_kg[1]: must be positive, got 0"},
-    {"mass negative", third_event("{epoch: 2009-02-10T15:00:00Z, kind: explosion, objects: [4], masses_kg: [-2]}"),
+    {"mass negative",
+     third_event("{epoch: 2009-02-10T15:00:00Z, kind: explosion, objects: [4], masses_kg: [-2]}"),
      "breakups.scheduled[2].masses_kg[0]: must be positive, got -2"},
     // N = 6 S Lc^-1.6 = 238.9 at S = 1, Lc = 0.1 m.
     {"explosion over the fragment limit",
@@ -100,7 +102,8 @@ const Case kRefusals[] = {
      with_breakups("  max_fragments_per_event: 1000\n  scheduled:\n"
                    "    - {epoch: 2009-02-10T16:56:00Z, kind: collision, objects: [1, 2], "
                    "impact_speed_m_s: 11700, masses_kg: [560, 950]}\n"),
-     "breakups.scheduled[0]: gives 1242 fragments of at least 0.1 m, more than max_fragments_per_event (1000)"},
+     "breakups.scheduled[0]: gives 1242 fragments of at least 0.1 m, more than max_fragments_per_event "
+     "(1000)"},
 };
 
 class BreakupRefusals : public ::testing::TestWithParam<Case> {};
@@ -127,7 +130,8 @@ INSTANTIATE_TEST_SUITE_P(Table, BreakupRefusals, ::testing::ValuesIn(kRefusals),
 // What only the API can send: numbers the YAML parser refuses (non-finite values, unknown enum numbers).
 v1::Scenario api_scenario() {
   v1::Scenario s;
-  EXPECT_FALSE(parse_scenario(third_event("{epoch: 2009-02-10T15:00:00Z, kind: collision, objects: [4, 5]}"), s));
+  EXPECT_FALSE(
+      parse_scenario(third_event("{epoch: 2009-02-10T15:00:00Z, kind: collision, objects: [4, 5]}"), s));
   EXPECT_FALSE(validate_scenario(s));
   return s;
 }
@@ -163,7 +167,8 @@ TEST(BreakupRefusalsFromTheApi, UnknownEnumNumbers) {
   EXPECT_EQ(api_error(s), "breakups.on_collision: unknown value 7 (expected one of: fragment, record_only)");
   s = api_scenario();
   s.mutable_breakups()->mutable_scheduled(2)->set_kind(static_cast<v1::BreakupKind>(9));
-  EXPECT_EQ(api_error(s), "breakups.scheduled[2].kind: unknown value 9 (expected one of: explosion, collision)");
+  EXPECT_EQ(api_error(s),
+            "breakups.scheduled[2].kind: unknown value 9 (expected one of: explosion, collision)");
 }
 
 TEST(BreakupMapping, EveryFieldReachesTheSettings) {
@@ -221,7 +226,8 @@ TEST(BreakupMapping, NoBreakupsBlockGivesTheCoreDefaults) {
   expect_default_settings(to_simulation_config(s).breakups);
   ASSERT_FALSE(parse_scenario("population: {synthetic: {objects: 5}}\nbreakups: {}", s));
   expect_default_settings(to_simulation_config(s).breakups);
-  ASSERT_FALSE(parse_scenario("population: {synthetic: {objects: 5}}\nbreakups: {on_collision: fragment}", s));
+  ASSERT_FALSE(
+      parse_scenario("population: {synthetic: {objects: 5}}\nbreakups: {on_collision: fragment}", s));
   EXPECT_EQ(to_simulation_config(s).breakups.on_collision, CollisionResponse::kFragment);
 }
 
@@ -240,10 +246,12 @@ class NoEvents : public EventSink {
 // scenario with a disabled block (whatever its other fields), so existing runs keep their fingerprints.
 TEST(BreakupMapping, DisabledBreakupsKeepTheRunsKey) {
   const std::string base =
-      "population: {synthetic: {objects: 20}}\nduration_days: 0.01\ndt_s: 30\ncheckpoints: {every_steps: 5}\n";
+      "population: {synthetic: {objects: 20}}\nduration_days: 0.01\ndt_s: 30\ncheckpoints: {every_steps: "
+      "5}\n";
   v1::Scenario without, disabled, enabled;
   ASSERT_FALSE(parse_scenario(base, without));
-  ASSERT_FALSE(parse_scenario(base + "breakups: {enabled: false, separation_s: 60, explosion_scale_s: 2}", disabled));
+  ASSERT_FALSE(
+      parse_scenario(base + "breakups: {enabled: false, separation_s: 60, explosion_scale_s: 2}", disabled));
   ASSERT_FALSE(parse_scenario(base + "breakups: {enabled: true}", enabled));
   BuildOptions options;
   options.threads = 1;
