@@ -12,6 +12,7 @@
 #include "core/catalog/synthetic.hpp"
 #include "core/conjunctions/detector.hpp"
 #include "core/integration/symplectic_propagator.hpp"
+#include "core/scenario/breakup_validation.hpp"
 #include "core/scenario/scenario_defaults.hpp"
 #include "core/sgp4/sgp4_propagator.hpp"
 
@@ -215,6 +216,8 @@ std::unique_ptr<Simulation> build_simulation(const v1::Scenario& scenario, const
   if (population.empty())
     return fail({"population", "no objects are left after the ingest filters; nothing to simulate"});
   if (auto problem = population.validate()) return fail({"population", *problem});
+  // Scheduled breakups name objects by id: only the ingested population says whether they exist.
+  if (auto e = check_breakups_against_population(config.breakups, population)) return fail(*e);
   SimulationParts parts;
   if (auto e = make_parts(scenario, config, &loaded, parts)) return fail(*e);
   return std::make_unique<Simulation>(config, std::move(population), std::move(parts));

@@ -25,6 +25,12 @@ inline constexpr std::array<std::string_view, 3> kExcludeNames = {"ISS (*)", "ST
 inline constexpr double kSyntheticActiveFraction = 0.125;
 inline constexpr double kSyntheticMinAltitudeKm = 300.0;
 inline constexpr double kSyntheticMaxAltitudeKm = 1500.0;
+// Breakups (off by default; the core's BreakupSettings holds the same values).
+inline constexpr double kBreakupSeparationS = 600.0;
+inline constexpr double kBreakupMinCharacteristicLengthM = 0.10;
+inline constexpr double kBreakupMaxCharacteristicLengthM = 1.0;  // the model's Lc_min range is (0, 1] m
+inline constexpr double kBreakupExplosionScale = 1.0;
+inline constexpr unsigned long long kBreakupMaxFragmentsPerEvent = 1'000'000;
 
 inline constexpr std::array<std::string_view, 2> kDatasets = {"catalog-2022", "leo-19647"};
 inline constexpr std::array<std::string_view, 4> kObjectTypes = {"PAYLOAD", "ROCKET BODY", "DEBRIS",

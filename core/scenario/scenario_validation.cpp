@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/catalog/leo19647.hpp"
+#include "core/scenario/breakup_validation.hpp"
 #include "core/scenario/run_builder.hpp"
 #include "core/scenario/scenario_defaults.hpp"
 
@@ -180,6 +181,11 @@ std::optional<FieldError> validate_scenario(const v1::Scenario& s) {
           non_negative(c.has_active_passive_max_passive_radius_m(), c.active_passive_max_passive_radius_m(),
                        "conjunctions.active_passive_max_passive_radius_m"))
     return e;
+  // The breakups' epochs fall in the steps the run takes: floor(duration / dt) whole steps.
+  SimulationConfig steps;
+  steps.duration_s = duration;
+  steps.dt_s = dt;
+  if (auto e = validate_breakups(s, start_of(s), static_cast<double>(total_steps_of(steps)) * dt)) return e;
   return validate_population(s);
 }
 
@@ -219,6 +225,7 @@ SimulationConfig to_simulation_config(const v1::Scenario& s, int threads) {
   c.progress_every_steps = s.has_progress_every_steps() ? s.progress_every_steps() : 0;
   c.seed = s.has_seed() ? s.seed() : d::kSeed;
   c.threads = threads;
+  c.breakups = breakup_settings_of(s.breakups(), c.start_epoch);
   return c;
 }
 
