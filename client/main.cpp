@@ -15,6 +15,7 @@ CommandRun setup_watch(CLI::App& command, GlobalOptions& global);
 CommandRun setup_runs(CLI::App& command, GlobalOptions& global);
 CommandRun setup_show(CLI::App& command, GlobalOptions& global);
 CommandRun setup_conjunctions(CLI::App& command, GlobalOptions& global);
+CommandRun setup_fragments(CLI::App& command, GlobalOptions& global);
 CommandRun setup_cancel(CLI::App& command, GlobalOptions& global);
 CommandRun setup_delete(CLI::App& command, GlobalOptions& global);
 CommandRun setup_health(CLI::App& command, GlobalOptions& global);
@@ -32,6 +33,7 @@ const CommandSpec kCommands[] = {
     {"show", "a run's scenario, ingest report, state, timers and conjunction counts by kappa", setup_show},
     {"conjunctions", "a run's conjunctions, filtered (kappa, object, time, collisions, closest per pair)",
      setup_conjunctions},
+    {"fragments", "the fragments a run's breakups made (parent, Lc, A/m, mass, dv)", setup_fragments},
     {"cancel", "cancel a queued or running run", setup_cancel},
     {"delete", "delete an ended run and everything stored for it", setup_delete},
     {"health", "the daemon's health check: exit 0 when SERVING", setup_health},

@@ -43,6 +43,19 @@ const char* encounter_kind_name(EncounterKind kind) {
   }
 }
 
+const char* breakup_kind_name(BreakupKind kind) {
+  return kind == BreakupKind::kCollision ? "collision" : "explosion";
+}
+
+const char* breakup_source_name(BreakupSource source) {
+  return source == BreakupSource::kCollision ? "collision" : "scheduled";
+}
+
+std::string object_name(ObjectId id, const std::string& name) {
+  if (!name.empty() || id < kFirstFragmentId) return name;
+  return "FRAGMENT " + std::to_string(id);
+}
+
 std::string json_escape(const std::string& text) {
   std::string out;
   for (char c : text) {
@@ -85,8 +98,27 @@ std::string progress_json(std::uint64_t seq, const Progress& p) {
   std::ostringstream s;
   s << "{\"type\":\"progress\",\"seq\":" << seq << ",\"step\":" << p.step
     << ",\"total_steps\":" << p.total_steps << ",\"sim_time_s\":" << num(p.sim_time_s)
-    << ",\"objects_alive\":" << p.objects_alive << ",\"events\":" << p.events_so_far
-    << ",\"wall_s\":" << fixed(p.wall_s, 3) << ",\"eta_s\":" << fixed(p.eta_s, 3) << "}";
+    << ",\"objects_alive\":" << p.objects_alive
+    << ",\"objects_by_type\":{\"payload\":" << p.objects_by_type.payload
+    << ",\"rocket_body\":" << p.objects_by_type.rocket_body << ",\"debris\":" << p.objects_by_type.debris
+    << ",\"unknown\":" << p.objects_by_type.unknown << ",\"fragments\":" << p.objects_by_type.fragments
+    << "},\"events\":" << p.events_so_far << ",\"wall_s\":" << fixed(p.wall_s, 3)
+    << ",\"eta_s\":" << fixed(p.eta_s, 3) << "}";
+  return s.str();
+}
+
+std::string breakup_json(std::uint64_t seq, const BreakupReport& b, const UtcEpoch& epoch) {
+  std::ostringstream s;
+  s << "{\"type\":\"breakup\",\"seq\":" << seq << ",\"breakup_id\":" << b.breakup_id
+    << ",\"time_s\":" << num(b.time_s) << ",\"time\":\"" << epoch.plus_seconds(b.time_s).to_iso8601(3)
+    << "\",\"kind\":\"" << breakup_kind_name(b.kind) << "\",\"source\":\"" << breakup_source_name(b.source)
+    << "\",\"event_index\":" << b.event_index << ",\"parents\":[";
+  for (std::size_t i = 0; i < b.parents.size(); ++i) s << (i ? "," : "") << b.parents[i];
+  s << "],\"catastrophic\":" << (b.catastrophic ? "true" : "false")
+    << ",\"specific_energy_j_per_g\":" << num(b.specific_energy_j_per_g)
+    << ",\"fragments\":" << b.fragment_count << ",\"fragment_mass_kg\":" << num(b.fragment_mass_kg)
+    << ",\"first_id\":" << b.first_id << ",\"last_id\":" << b.last_id << ",\"remnant_id\":" << b.remnant_id
+    << "}";
   return s.str();
 }
 
@@ -155,6 +187,23 @@ std::string burn_up_row(std::uint64_t seq, const BurnUp& b, const UtcEpoch& epoc
   std::snprintf(buf, sizeof buf, "%8llu  %-11s  %8llu  %8s  %s  %12.3f km",
                 static_cast<unsigned long long>(seq), "burn_up", static_cast<unsigned long long>(b.id), "",
                 epoch.plus_seconds(b.time_s).to_iso8601(3).c_str(), b.altitude_m / 1e3);
+  return buf;
+}
+
+std::string breakup_row(std::uint64_t seq, const BreakupReport& b, const UtcEpoch& epoch) {
+  std::string parents;
+  for (ObjectId id : b.parents) {
+    if (!parents.empty()) parents += '+';
+    parents += std::to_string(id);
+  }
+  char buf[384];
+  std::snprintf(buf, sizeof buf, "%8llu  %-11s  #%u %s (%s) of %s  %s  %llu fragments %llu-%llu  %.1f kg%s",
+                static_cast<unsigned long long>(seq), "breakup", static_cast<unsigned>(b.breakup_id),
+                breakup_kind_name(b.kind), breakup_source_name(b.source), parents.c_str(),
+                epoch.plus_seconds(b.time_s).to_iso8601(3).c_str(),
+                static_cast<unsigned long long>(b.fragment_count),
+                static_cast<unsigned long long>(b.first_id), static_cast<unsigned long long>(b.last_id),
+                b.fragment_mass_kg, b.catastrophic ? "  catastrophic" : "");
   return buf;
 }
 

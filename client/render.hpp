@@ -22,6 +22,11 @@ std::string encounter_json(std::uint64_t seq, const Encounter& e, const UtcEpoch
                            const EncounterNames& names = {});
 std::string burn_up_json(std::uint64_t seq, const BurnUp& b, const UtcEpoch& epoch);
 std::string progress_json(std::uint64_t seq, const Progress& p);
+// {"type":"breakup","seq":..,"breakup_id":..,"time_s":..,"time":..,"kind":"explosion","source":"scheduled",
+//  "event_index":..,"parents":[..],"catastrophic":..,"specific_energy_j_per_g":..,"fragments":<count>,
+//  "fragment_mass_kg":..,"first_id":..,"last_id":..,"remnant_id":..} (the fragments themselves: kessler
+// fragments).
+std::string breakup_json(std::uint64_t seq, const BreakupReport& b, const UtcEpoch& epoch);
 std::string checkpoint_json(std::uint64_t last_seq, std::int64_t step, const std::string& where);
 // {"type":"summary","events":..,"collisions":..,"objects_final":..,"events_digest":..,"state_digest":..,...}
 std::string summary_json(const RunSummary& s);
@@ -31,6 +36,7 @@ std::string encounter_row(std::uint64_t seq, const Encounter& e, const UtcEpoch&
                           const EncounterNames& names = {});
 std::string burn_up_row(std::uint64_t seq, const BurnUp& b, const UtcEpoch& epoch);
 std::string progress_row(const Progress& p);
+std::string breakup_row(std::uint64_t seq, const BreakupReport& b, const UtcEpoch& epoch);
 std::string summary_table(const RunSummary& s);
 
 // The ingest report, before a run's events: {"type":"ingest","records":N,"kept":N,"dropped":{"<reason>":N}}
@@ -39,6 +45,10 @@ std::string ingest_json(const IngestOutcome& ingest);
 std::string ingest_table(const IngestOutcome& ingest);
 
 const char* encounter_kind_name(EncounterKind kind);
+const char* breakup_kind_name(BreakupKind kind);        // "collision", "explosion"
+const char* breakup_source_name(BreakupSource source);  // "scheduled", "collision"
+// An object's name for listings: its name, else "FRAGMENT <id>" for a breakup's fragment, else empty.
+std::string object_name(ObjectId id, const std::string& name);
 std::string json_escape(const std::string& text);
 
 }  // namespace kessler::cli

@@ -87,6 +87,10 @@ class Service final : public v1::KesslerService::Service {
                            v1::RunStats* out) override {
     return guarded(c, [&] { *out = m_.stats(*r); });
   }
+  grpc::Status ListFragments(grpc::ServerContext* c, const v1::ListFragmentsRequest* r,
+                             v1::ListFragmentsResponse* out) override {
+    return guarded(c, [&] { *out = m_.fragments(*r); });
+  }
 
  private:
   RunManager& m_;

@@ -50,6 +50,15 @@ void EventRelay::on_progress(std::uint64_t seq, const Progress& progress) {
   push(std::move(item));
 }
 
+void EventRelay::on_breakup(std::uint64_t seq, const BreakupReport& breakup) {
+  Item item;
+  item.kind = Item::Kind::kBreakup;
+  item.seq = seq;
+  // Breakups are rare: the copy of the report (its fragments too) is the simulation thread's one cost.
+  item.breakup = std::make_shared<const BreakupReport>(breakup);
+  push(std::move(item));
+}
+
 void EventRelay::on_checkpoint(std::uint64_t last_seq, std::int64_t step, const std::string& bytes) {
   const auto now = std::chrono::steady_clock::now();
   const bool stops_after = control_ && control_->stop_after_checkpoint.load();
@@ -165,6 +174,15 @@ void EventRelay::hand_over(std::vector<Item>& items) {
       case Item::Kind::kProgress:
         *event->mutable_progress() = to_proto(item.progress);
         break;
+      case Item::Kind::kBreakup: {
+        // The store takes the event with its fragments (in order after the events before it); the
+        // watchers get the event alone, in the same batch order.
+        *event->mutable_breakup() = to_proto(*item.breakup);
+        publish();
+        store_.append_breakup(event, fragments_of(*item.breakup));
+        hub_.publish(EventPtr(event));
+        continue;
+      }
       case Item::Kind::kCheckpoint:
         break;
     }

@@ -137,6 +137,40 @@ v1::Progress to_proto(const Progress& p) {
   out.set_events_so_far(p.events_so_far);
   out.set_wall_s(p.wall_s);
   out.set_eta_s(p.eta_s);
+  auto* by_type = out.mutable_objects_by_type();
+  by_type->set_payload(p.objects_by_type.payload);
+  by_type->set_rocket_body(p.objects_by_type.rocket_body);
+  by_type->set_debris(p.objects_by_type.debris);
+  by_type->set_unknown(p.objects_by_type.unknown);
+  by_type->set_fragments(p.objects_by_type.fragments);
+  return out;
+}
+
+v1::Breakup to_proto(const BreakupReport& b) {
+  v1::Breakup out;
+  out.set_breakup_id(b.breakup_id);
+  out.set_source(b.source == BreakupSource::kCollision ? v1::BREAKUP_SOURCE_COLLISION
+                                                       : v1::BREAKUP_SOURCE_SCHEDULED);
+  out.set_event_index(b.event_index);
+  out.set_time_s(b.time_s);
+  out.set_kind(b.kind == BreakupKind::kCollision ? v1::BREAKUP_KIND_COLLISION : v1::BREAKUP_KIND_EXPLOSION);
+  for (ObjectId id : b.parents) out.add_parents(id);
+  out.set_catastrophic(b.catastrophic);
+  out.set_specific_energy_j_per_g(b.specific_energy_j_per_g);
+  out.set_fragment_count(b.fragment_count);
+  out.set_fragment_mass_kg(b.fragment_mass_kg);
+  out.set_first_id(b.first_id);
+  out.set_last_id(b.last_id);
+  out.set_remnant_id(b.remnant_id);
+  return out;
+}
+
+std::vector<StoredFragment> fragments_of(const BreakupReport& b) {
+  std::vector<StoredFragment> out;
+  out.reserve(b.fragments.size());
+  for (const FragmentReport& f : b.fragments)
+    out.push_back(
+        {f.id, f.parent_id, f.characteristic_length_m, f.area_to_mass_m2_kg, f.mass_kg, f.delta_v_m_s});
   return out;
 }
 
@@ -320,6 +354,23 @@ v1::RunStats RunManager::stats(const v1::GetRunStatsRequest& request) {
   return stats;
 }
 
+v1::ListFragmentsResponse RunManager::fragments(const v1::ListFragmentsRequest& request) {
+  get(request.run_id(), false);  // NOT_FOUND
+  if (request.page_size() < 0)
+    throw ServiceError(Code::kInvalidArgument, "page_size: must be >= 0", "page_size");
+  Page<v1::Fragment> page;
+  try {
+    page = store_.list_fragments(request);
+  } catch (const std::invalid_argument& e) {
+    throw ServiceError(Code::kInvalidArgument, e.what(), "page_token");
+  }
+  v1::ListFragmentsResponse response;
+  for (auto& f : page.items) *response.add_fragments() = std::move(f);
+  response.set_next_page_token(page.next_token);
+  response.set_total(page.total);
+  return response;
+}
+
 void RunManager::finish(std::int64_t run_id, v1::RunState state, const std::string& error,
                         const v1::RunSummary* summary) {
   store_.discard_waiting_checkpoint(run_id);  // an ended run resumes from nothing
@@ -360,6 +411,7 @@ void RunManager::execute(std::int64_t run_id, RunControl& control) {
   BuildOptions build;
   build.threads = run->threads();
   if (!options_.datasets_dir.empty()) build.datasets_dir = options_.datasets_dir;
+  build.adjust_config = options_.adjust_config;
   FieldError error;
   std::unique_ptr<Simulation> simulation;
   std::optional<IngestReport> ingest;

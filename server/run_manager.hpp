@@ -14,6 +14,7 @@
 #include <string>
 
 #include "core/simulation/events.hpp"
+#include "core/simulation/simulation.hpp"
 #include "kessler/v1/service.pb.h"
 #include "server/event_hub.hpp"
 #include "server/scheduler.hpp"
@@ -51,6 +52,9 @@ struct ManagerOptions {
   // latency watchers see, traded against wake-ups (10 ms cost the bench's 10 watchers 0.37 s of CPU
   // per 2 s run, 50 ms 0.20 s).
   std::chrono::milliseconds relay_gather{50};
+  // Applied to each run's core configuration after the scenario's (tests: settings no scenario field
+  // reaches). Empty: none.
+  std::function<void(SimulationConfig&)> adjust_config;
 };
 
 // Allocator settings for a process that hosts runs: blocks up to 32 MB come from the heap and freed
@@ -64,6 +68,9 @@ void tune_allocator_for_runs();
 v1::RunSummary to_proto(const RunSummary& summary);
 v1::Encounter to_proto(const Encounter& encounter);
 v1::Progress to_proto(const Progress& progress);
+// The breakup without its fragments (the event), and its fragments as the store keeps them.
+v1::Breakup to_proto(const BreakupReport& breakup);
+std::vector<StoredFragment> fragments_of(const BreakupReport& breakup);
 
 class RunManager {
  public:
@@ -78,6 +85,7 @@ class RunManager {
   void remove(std::int64_t run_id);
   v1::ListConjunctionsResponse conjunctions(const v1::ListConjunctionsRequest& request);
   v1::RunStats stats(const v1::GetRunStatsRequest& request);
+  v1::ListFragmentsResponse fragments(const v1::ListFragmentsRequest& request);
 
   // Streams the run's events after request.after_seq through `write` (false: the client has gone)
   // until the run ends, `stop()` turns true or the daemon shuts down (ServiceError kUnavailable).

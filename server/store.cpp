@@ -67,6 +67,35 @@ const char* const kMigrations[] = {
       PRIMARY KEY (run_id, object_id)
     ) WITHOUT ROWID;
     )sql",
+    // Breakups (their events are kind 4) and the fragments they made.
+    R"sql(
+    CREATE TABLE breakups (
+      run_id INTEGER NOT NULL,
+      breakup_id INTEGER NOT NULL,
+      seq INTEGER NOT NULL,
+      time_s REAL NOT NULL,
+      kind INTEGER NOT NULL,
+      source INTEGER NOT NULL,
+      catastrophic INTEGER NOT NULL,
+      fragment_count INTEGER NOT NULL,
+      first_id INTEGER NOT NULL,
+      last_id INTEGER NOT NULL,
+      remnant_id INTEGER NOT NULL,
+      PRIMARY KEY (run_id, breakup_id)
+    ) WITHOUT ROWID;
+    CREATE TABLE fragments (
+      run_id INTEGER NOT NULL,
+      fragment_id INTEGER NOT NULL,
+      breakup_id INTEGER NOT NULL,
+      parent_id INTEGER NOT NULL,
+      characteristic_length_m REAL NOT NULL,
+      area_to_mass_m2_kg REAL NOT NULL,
+      mass_kg REAL NOT NULL,
+      delta_v_m_s REAL NOT NULL,
+      PRIMARY KEY (run_id, fragment_id)
+    ) WITHOUT ROWID;
+    CREATE INDEX fragments_by_breakup ON fragments(run_id, breakup_id, fragment_id);
+    )sql",
 };
 constexpr int kMigrationCount = sizeof(kMigrations) / sizeof(kMigrations[0]);
 static_assert(kMigrationCount == Store::kSchemaVersion);

@@ -38,6 +38,16 @@ struct StoredCheckpoint {
   std::string bytes;
 };
 
+// One fragment of a breakup as the store keeps it (the breakup's id comes with its event).
+struct StoredFragment {
+  std::uint64_t id = 0;
+  std::uint64_t parent_id = 0;
+  double characteristic_length_m = 0.0;
+  double area_to_mass_m2_kg = 0.0;
+  double mass_kg = 0.0;
+  double delta_v_m_s = 0.0;
+};
+
 // One page of a query: items and the token of the next page (empty on the last).
 template <typename T>
 struct Page {
@@ -58,7 +68,7 @@ class Store {
   Store(const Store&) = delete;
   Store& operator=(const Store&) = delete;
 
-  static constexpr int kSchemaVersion = 2;
+  static constexpr int kSchemaVersion = 3;
   int schema_version();
 
   // Runs. The id is assigned here.
@@ -88,6 +98,9 @@ class Store {
   void append_event(std::shared_ptr<const v1::RunEvent> event);
   // A batch, in order: one queue operation for all of it.
   void append_events(const std::vector<std::shared_ptr<const v1::RunEvent>>& events);
+  // A breakup event (RunEvent::breakup) with its fragments, in order with the other events; stored
+  // idempotently by (run, sequence number) like them.
+  void append_breakup(std::shared_ptr<const v1::RunEvent> event, std::vector<StoredFragment> fragments);
   // Stored after every event appended before it (possibly later, see min_checkpoint_interval).
   void append_checkpoint(std::int64_t run_id, std::uint64_t last_seq, std::int64_t step, std::string bytes);
   void append_checkpoint(std::int64_t run_id, std::uint64_t last_seq, std::int64_t step,
@@ -106,6 +119,8 @@ class Store {
 
   Page<v1::Encounter> list_conjunctions(const v1::ListConjunctionsRequest& request);
   v1::RunStats run_stats(const v1::GetRunStatsRequest& request, double run_length_s);
+  // By fragment id; the page token is the offset (std::invalid_argument for a token not from a page).
+  Page<v1::Fragment> list_fragments(const v1::ListFragmentsRequest& request);
 
   // Rows written by the writer thread since the store opened (events), for the benchmark.
   std::uint64_t events_written() const;

@@ -4,13 +4,15 @@
 
 #include <sqlite3.h>
 
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "server/store.hpp"
 
 namespace kessler::server::detail {
 
-enum EventKind : int { kKindProgress = 1, kKindEncounter = 2, kKindBurnUp = 3 };
+enum EventKind : int { kKindProgress = 1, kKindEncounter = 2, kKindBurnUp = 3, kKindBreakup = 4 };
 
 inline void check(int rc, sqlite3* db, const char* what) {
   if (rc != SQLITE_OK && rc != SQLITE_DONE && rc != SQLITE_ROW)
@@ -81,6 +83,12 @@ class Statement {
   sqlite3_stmt* stmt_ = nullptr;
 };
 
+// The breakup's row and its fragments' rows (store_breakups.cpp), in the writer's transaction.
+extern const char* const kBreakupInsertSql;
+extern const char* const kFragmentInsertSql;
+void write_breakup_rows(Statement& breakup_insert, Statement& fragment_insert, const v1::RunEvent& event,
+                        const std::vector<StoredFragment>& fragments);
+
 inline sqlite3* open_connection(const std::string& path) {
   sqlite3* db = nullptr;
   int rc = sqlite3_open_v2(path.c_str(), &db,
@@ -107,6 +115,7 @@ struct Store::Pending {
   std::uint64_t last_seq = 0;
   std::int64_t step = 0;
   std::shared_ptr<const std::string> checkpoint;
+  std::shared_ptr<const std::vector<StoredFragment>> fragments;  // a breakup event's
   bool is_checkpoint = false;
   bool discard = false;  // a checkpoint item that drops the run's waiting checkpoint
 };

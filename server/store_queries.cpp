@@ -5,6 +5,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "core/simulation/breakups.hpp"
 #include "server/store.hpp"
 #include "server/store_internal.hpp"
 
@@ -14,7 +15,7 @@ using namespace detail;
 
 namespace {
 
-// The objects' names, where the run's population has them.
+// The objects' names, where the run's population has them; a breakup's fragment "FRAGMENT <id>".
 void add_names(sqlite3* db, std::int64_t run_id, std::vector<v1::Encounter>& encounters) {
   Statement s(db, "SELECT name FROM object_names WHERE run_id = ? AND object_id = ?");
   std::map<std::uint64_t, std::string> names;
@@ -24,6 +25,7 @@ void add_names(sqlite3* db, std::int64_t run_id, std::vector<v1::Encounter>& enc
     s.reset();
     s.bind(1, run_id).bind(2, id);
     std::string name = s.step() ? s.text(0) : std::string();
+    if (name.empty() && id >= kFirstFragmentId) name = "FRAGMENT " + std::to_string(id);  // unnamed
     return names.emplace(id, std::move(name)).first->second;
   };
   for (auto& e : encounters) {
@@ -160,6 +162,13 @@ v1::RunStats Store::run_stats(const v1::GetRunStatsRequest& request, double run_
     Statement burn_ups(lease.db(), "SELECT COUNT(*) FROM events WHERE run_id = ? AND kind = 3");
     burn_ups.bind(1, request.run_id());
     if (burn_ups.step()) stats.set_burn_ups(static_cast<std::uint64_t>(burn_ups.i64(0)));
+    Statement breakups(lease.db(),
+                       "SELECT COUNT(*), COALESCE(SUM(fragment_count), 0) FROM breakups WHERE run_id = ?");
+    breakups.bind(1, request.run_id());
+    if (breakups.step()) {
+      stats.set_breakups(static_cast<std::uint64_t>(breakups.i64(0)));
+      stats.set_fragments(static_cast<std::uint64_t>(breakups.i64(1)));
+    }
   }
   for (double kappa : kappas) {
     v1::KappaSeries* series = stats.add_by_kappa();
@@ -188,6 +197,7 @@ v1::RunStats Store::run_stats(const v1::GetRunStatsRequest& request, double run_
     v1::AliveSample* sample = stats.add_objects_alive();
     sample->set_sim_time_s(event.progress().sim_time_s());
     sample->set_objects_alive(event.progress().objects_alive());
+    *sample->mutable_by_type() = event.progress().objects_by_type();
   }
   return stats;
 }

@@ -50,6 +50,18 @@ void Store::append_events(const std::vector<std::shared_ptr<const v1::RunEvent>>
   queue_cv_.notify_one();
 }
 
+void Store::append_breakup(std::shared_ptr<const v1::RunEvent> event, std::vector<StoredFragment> fragments) {
+  Pending p;
+  p.event = std::move(event);
+  p.fragments = std::make_shared<const std::vector<StoredFragment>>(std::move(fragments));
+  {
+    std::lock_guard lock(queue_mutex_);
+    queue_.push_back(std::move(p));
+    ++appended_;
+  }
+  queue_cv_.notify_one();
+}
+
 void Store::append_checkpoint(std::int64_t run_id, std::uint64_t last_seq, std::int64_t step,
                               std::string bytes) {
   append_checkpoint(run_id, last_seq, step, std::make_shared<const std::string>(std::move(bytes)));
@@ -103,9 +115,13 @@ struct Store::WriterStatements {
                           "INSERT INTO checkpoints(run_id, last_seq, step, bytes) VALUES(?, ?, ?, ?) "
                           "ON CONFLICT(run_id) DO UPDATE SET last_seq = excluded.last_seq, "
                           "step = excluded.step, bytes = excluded.bytes WHERE excluded.step >= "
-                          "checkpoints.step") {}
+                          "checkpoints.step"),
+        breakup_insert(db, kBreakupInsertSql),
+        fragment_insert(db, kFragmentInsertSql) {}
   Statement event_insert;
   Statement checkpoint_upsert;
+  Statement breakup_insert;
+  Statement fragment_insert;
 };
 
 void Store::writer_loop() {
@@ -209,7 +225,10 @@ void Store::write_batch(std::vector<Pending>& batch, WriterStatements& statement
       continue;
     }
     const v1::RunEvent& e = *p.event;
-    int kind = e.has_progress() ? kKindProgress : e.has_encounter() ? kKindEncounter : kKindBurnUp;
+    int kind = e.has_progress()    ? kKindProgress
+               : e.has_encounter() ? kKindEncounter
+               : e.has_breakup()   ? kKindBreakup
+                                   : kKindBurnUp;
     payload.clear();
     e.SerializeToString(&payload);
     event_insert.bind(1, e.run_id()).bind(2, e.seq()).bind(3, kind).bind_blob(4, payload);
@@ -221,6 +240,10 @@ void Store::write_batch(std::vector<Pending>& batch, WriterStatements& statement
       event_insert.bind_null(5).bind_null(6).bind_null(7).bind_null(8).bind_null(9).bind_null(10);
     }
     event_insert.run();
+    // A re-emitted event (a resumed run) is already stored, with its breakup's rows.
+    if (e.has_breakup() && sqlite3_changes(db) > 0)
+      write_breakup_rows(statements.breakup_insert, statements.fragment_insert, e,
+                         p.fragments ? *p.fragments : std::vector<StoredFragment>{});
     ++written;
   }
   exec(db, "COMMIT");

@@ -22,8 +22,8 @@ const char* const kWatchOutputHelp =
 void add_watch_options(CLI::App& command, WatchOptions& options) {
   command
       .add_option("--events", options.events,
-                  "events printed as they come: all, notable (collisions, burn-ups, conjunctions with kappa "
-                  "<= 1; the default) or none (the default with json)")
+                  "events printed as they come: all, notable (collisions, burn-ups, breakups, conjunctions "
+                  "with kappa <= 1; the default) or none (the default with json)")
       ->option_text("MODE")
       ->check(CLI::IsMember({"all", "notable", "none"}));
   command
@@ -66,7 +66,7 @@ class ProgressView {
     if (tty_ && drawn_) std::cerr << "\n";
     drawn_ = false;
   }
-  std::uint64_t conjunctions = 0, collisions = 0, evasions = 0, burn_ups = 0;
+  std::uint64_t conjunctions = 0, collisions = 0, evasions = 0, burn_ups = 0, breakups = 0;
 
  private:
   std::string line() const {
@@ -84,6 +84,7 @@ class ProgressView {
     s << bar << " " << progress_percent(p) << "  " << format_sim_time(start_epoch_, p.sim_time_s()) << "  "
       << rate << " real time  left " << format_duration(p.eta_s()) << "  objects " << p.objects_alive()
       << "  conj " << conjunctions << " coll " << collisions << " evas " << evasions << " burn " << burn_ups;
+    if (breakups > 0) s << " brk " << breakups;
     return s.str();
   }
   void draw() {
@@ -97,14 +98,35 @@ class ProgressView {
   v1::Progress last_;
 };
 
-// "25544 (ISS (ZARYA))", or the id alone where the population has no name.
+// "25544 (ISS (ZARYA))", "1000000007 (FRAGMENT 1000000007)", or the id alone where the population has
+// no name.
 std::string object_text(std::uint64_t id, const std::string& name) {
-  return name.empty() ? std::to_string(id) : std::to_string(id) + " (" + name + ")";
+  const std::string shown = object_name(id, name);
+  return shown.empty() ? std::to_string(id) : std::to_string(id) + " (" + shown + ")";
+}
+
+UtcEpoch epoch_of(const std::string& start_epoch) {
+  auto epoch = UtcEpoch::parse_iso8601(start_epoch.empty() ? "2022-01-01T00:00:00Z" : start_epoch);
+  return epoch ? *epoch : UtcEpoch::from_calendar(2022, 1, 1, 0, 0, 0.0);
 }
 
 std::string event_text(const v1::RunEvent& e, const std::string& start_epoch) {
   char buf[384];
-  if (e.has_encounter()) {
+  if (e.has_breakup()) {
+    const BreakupReport b = breakup_report_of(e.breakup());
+    std::string parents;
+    for (ObjectId id : b.parents) {
+      if (!parents.empty()) parents += " + ";
+      parents += std::to_string(id);
+    }
+    std::snprintf(buf, sizeof buf, "#%-8llu %-11s %s  #%u %s of %s  %llu fragments (%llu-%llu)  %.1f kg%s",
+                  static_cast<unsigned long long>(e.seq()), "breakup",
+                  format_sim_time(start_epoch, b.time_s).c_str(), static_cast<unsigned>(b.breakup_id),
+                  breakup_kind_name(b.kind), parents.c_str(),
+                  static_cast<unsigned long long>(b.fragment_count),
+                  static_cast<unsigned long long>(b.first_id), static_cast<unsigned long long>(b.last_id),
+                  b.fragment_mass_kg, b.catastrophic ? "  catastrophic" : "");
+  } else if (e.has_encounter()) {
     const auto& c = e.encounter();
     std::snprintf(buf, sizeof buf, "#%-8llu %-11s %s  %s - %s  d=%.1f m  kappa=%.3f  v=%.2f km/s",
                   static_cast<unsigned long long>(e.seq()), kind_name(c.kind()),
@@ -229,7 +251,11 @@ class Follower {
     }
     refresh_ingest();  // the population is built before the run's first event
     if (json_) {
-      if (events_ == EventsMode::kAll) std::cout << to_json(e) << "\n";
+      if (events_ == EventsMode::kAll)
+        std::cout << (e.has_breakup()
+                          ? breakup_json(e.seq(), breakup_report_of(e.breakup()), epoch_of(start_epoch_))
+                          : to_json(e))
+                  << "\n";
       return;
     }
     if (e.has_progress()) {
@@ -243,6 +269,10 @@ class Follower {
 
   // Counts the event in the progress line; true when it is notable.
   bool count(const v1::RunEvent& e) {
+    if (e.has_breakup()) {
+      ++view_->breakups;
+      return true;
+    }
     if (e.has_burn_up()) {
       ++view_->burn_ups;
       return true;

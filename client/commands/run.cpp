@@ -87,6 +87,9 @@ class PrintingSink final : public EventSink {
   void on_burn_up(std::uint64_t seq, const BurnUp& b) override {
     print(std::cout, json_ ? burn_up_json(seq, b, epoch_) : burn_up_row(seq, b, epoch_));
   }
+  void on_breakup(std::uint64_t seq, const BreakupReport& b) override {
+    print(std::cout, json_ ? breakup_json(seq, b, epoch_) : breakup_row(seq, b, epoch_));
+  }
   void on_progress(std::uint64_t seq, const Progress& p) override {
     if (json_) {
       std::cout << progress_json(seq, p) << '\n';
@@ -140,7 +143,7 @@ class PrintingSink final : public EventSink {
 
   std::string name_of(ObjectId id) const {
     auto it = names_.find(id);
-    return it == names_.end() ? std::string() : it->second;
+    return object_name(id, it == names_.end() ? std::string() : it->second);
   }
 
   bool json_;

@@ -1,5 +1,6 @@
 // kessler show RUN: a run's scenario, ingest report, state, times, phase timers, conjunction counts by
-// kappa over time and its summary.
+// kappa over time, objects alive by type over time and its summary.
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -76,7 +77,31 @@ void print_kappa_bins(const v1::Run& run, const v1::RunStats& stats) {
   }
   std::cout << render_table(header, rows);
   std::cout << "  total: " << stats.conjunctions() << " conjunctions, " << stats.collisions()
-            << " collisions, " << stats.evasions() << " evasions, " << stats.burn_ups() << " burn-ups\n\n";
+            << " collisions, " << stats.evasions() << " evasions, " << stats.burn_ups() << " burn-ups, "
+            << stats.breakups() << " breakups (" << stats.fragments() << " fragments)\n\n";
+}
+
+// Objects alive by type over the run: at most 13 of the progress samples, evenly spaced, the last
+// included.
+void print_alive(const v1::Run& run, const v1::RunStats& stats) {
+  const int n = stats.objects_alive_size();
+  if (n == 0) return;
+  std::vector<std::vector<std::string>> rows;
+  const int stride = std::max(1, (n + 11) / 12);
+  for (int i = 0; i < n; i += stride) {
+    const int k = (i + stride >= n) ? n - 1 : i;
+    const v1::AliveSample& a = stats.objects_alive(k);
+    const v1::ObjectCounts& t = a.by_type();
+    rows.push_back({"  " + format_sim_time(run.scenario().start_epoch(), a.sim_time_s()),
+                    std::to_string(a.objects_alive()), std::to_string(t.payload()),
+                    std::to_string(t.rocket_body()), std::to_string(t.debris()), std::to_string(t.unknown()),
+                    std::to_string(t.fragments())});
+    if (k == n - 1) break;
+  }
+  std::cout << "objects alive by type\n"
+            << render_table({"  TIME", "ALIVE", "PAYLOAD", "ROCKET BODY", "DEBRIS", "UNKNOWN", "FRAGMENTS"},
+                            rows)
+            << "\n";
 }
 
 int show(const ShowOptions& o, const GlobalOptions& global) {
@@ -108,6 +133,7 @@ int show(const ShowOptions& o, const GlobalOptions& global) {
   print_header(run);
   if (run.has_summary()) print_timers(run.summary().timers());
   print_kappa_bins(run, stats);
+  print_alive(run, stats);
   std::cout << summary_text(run);
   return kExitOk;
 }

@@ -140,6 +140,25 @@ std::string summary_text(const v1::Run& run) {
   return out.str();
 }
 
+BreakupReport breakup_report_of(const v1::Breakup& b) {
+  BreakupReport out;
+  out.breakup_id = b.breakup_id();
+  out.source =
+      b.source() == v1::BREAKUP_SOURCE_COLLISION ? BreakupSource::kCollision : BreakupSource::kScheduled;
+  out.event_index = b.event_index();
+  out.time_s = b.time_s();
+  out.kind = b.kind() == v1::BREAKUP_KIND_COLLISION ? BreakupKind::kCollision : BreakupKind::kExplosion;
+  out.parents.assign(b.parents().begin(), b.parents().end());
+  out.catastrophic = b.catastrophic();
+  out.specific_energy_j_per_g = b.specific_energy_j_per_g();
+  out.fragment_count = b.fragment_count();
+  out.fragment_mass_kg = b.fragment_mass_kg();
+  out.first_id = b.first_id();
+  out.last_id = b.last_id();
+  out.remnant_id = b.remnant_id();
+  return out;
+}
+
 IngestOutcome ingest_outcome_of(const v1::IngestReport& report) {
   IngestOutcome out;
   out.records = report.records();

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/scenario/run_builder.hpp"
+#include "core/simulation/breakups.hpp"
 #include "kessler/v1/names.hpp"
 #include "kessler/v1/service.pb.h"
 
@@ -45,6 +46,8 @@ std::string summary_text(const v1::Run& run);
 
 // The run's ingest report as `run --local` renders it (client/render.hpp).
 IngestOutcome ingest_outcome_of(const v1::IngestReport& report);
+// A breakup event in the core's terms (no fragment list), for render.hpp's breakup lines.
+BreakupReport breakup_report_of(const v1::Breakup& breakup);
 // A run's progress as "12.5%", or "-" before it knows its steps.
 std::string progress_percent(const v1::Progress& p);
 

@@ -133,6 +133,10 @@ CallResult RemoteClient::stats(const v1::GetRunStatsRequest& request, v1::RunSta
   return unary(*impl_->stub, &v1::KesslerService::Stub::GetRunStats, request, out);
 }
 
+CallResult RemoteClient::fragments(const v1::ListFragmentsRequest& request, v1::ListFragmentsResponse& out) {
+  return unary(*impl_->stub, &v1::KesslerService::Stub::ListFragments, request, out);
+}
+
 CallResult RemoteClient::health(const std::string& service, double timeout_s, std::string& status) {
   // The health proto's stubs are not part of the build: its two one-field messages are written and
   // read here on the wire (HealthCheckRequest.service = 1, HealthCheckResponse.status = 1).

@@ -38,6 +38,7 @@ class RemoteClient {
   CallResult remove(std::int64_t run_id);
   CallResult conjunctions(const v1::ListConjunctionsRequest& request, v1::ListConjunctionsResponse& out);
   CallResult stats(const v1::GetRunStatsRequest& request, v1::RunStats& out);
+  CallResult fragments(const v1::ListFragmentsRequest& request, v1::ListFragmentsResponse& out);
   // The standard health check (grpc.health.v1.Health/Check) of `service` ("" for the whole server):
   // `status` gets SERVING, NOT_SERVING, SERVICE_UNKNOWN or UNKNOWN. A service the daemon does not
   // know is NOT_FOUND.

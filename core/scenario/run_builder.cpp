@@ -177,6 +177,7 @@ SimulationConfig config_of(const v1::Scenario& scenario, const BuildOptions& opt
     config.checkpoint_every_steps = 0;
     config.checkpoint_every_wall_s = 0.0;
   }
+  if (options.adjust_config) options.adjust_config(config);
   return config;
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -42,6 +43,9 @@ struct BuildOptions {
   std::string datasets_dir = KESSLER_DATASETS_DIR;
   // False: no checkpoints are taken (a host with nowhere to keep them saves the time).
   bool checkpoints = true;
+  // Applied to the core configuration after the scenario's, for fresh and resumed runs alike (hosts
+  // and tests: settings no scenario field reaches). Empty: none.
+  std::function<void(SimulationConfig&)> adjust_config;
 };
 
 // The run the scenario describes: validates, ingests the population, builds the propagator.
