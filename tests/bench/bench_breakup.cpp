@@ -50,7 +50,10 @@ constexpr ObjectId kParentA = 5553, kParentB = 4855;
 class StepTimingSink final : public EventSink {
  public:
   explicit StepTimingSink(double breakup_time_s) : breakup_time_s_(breakup_time_s) {}
-  void start() { last_ = now_s(); }
+  void start() {
+    last_ = now_s();
+    last_cpu_ = process_cpu_s();
+  }
   void on_encounter(std::uint64_t, const Encounter& e) override {
     const bool after = e.tca_s > breakup_time_s_;
     const int fragments = (e.id1 >= kFirstFragmentId ? 1 : 0) + (e.id2 >= kFirstFragmentId ? 1 : 0);
@@ -58,8 +61,10 @@ class StepTimingSink final : public EventSink {
   }
   void on_burn_up(std::uint64_t, const BurnUp&) override {}
   void on_progress(std::uint64_t, const Progress& p) override {
-    const double t = now_s();
+    const double t = now_s(), cpu = process_cpu_s();
     step_s.push_back(t - last_);
+    step_cpu_s.push_back(cpu - last_cpu_);
+    last_cpu_ = cpu;
     objects_at_start.push_back(alive_);
     alive_ = p.objects_alive;
     last_ = t;
@@ -73,13 +78,14 @@ class StepTimingSink final : public EventSink {
   void set_alive(std::uint64_t n) { alive_ = n; }
 
   std::vector<double> step_s;                    // step k (1-based) at index k - 1
+  std::vector<double> step_cpu_s;                // its process CPU time (the loop runs on one thread)
   std::vector<std::uint64_t> objects_at_start;  // objects alive when that step began
   std::uint64_t before_by_fragments[3] = {0, 0, 0}, after_by_fragments[3] = {0, 0, 0};
   std::uint64_t fragments = 0;
 
  private:
   double breakup_time_s_;
-  double last_ = 0.0;
+  double last_ = 0.0, last_cpu_ = 0.0;
   std::uint64_t alive_ = 0;
 };
 
@@ -127,14 +133,15 @@ double median_steps(const std::vector<double>& step_s, std::int64_t first, std::
   return median(v);
 }
 
-// ns per object-step over steps first..last (1-based): wall time over objects alive at each step's start.
-double ns_per_object_step(const StepTimingSink& s, std::int64_t first, std::int64_t last) {
-  double wall = 0.0, object_steps = 0.0;
+// ns per object-step over steps first..last (1-based): wall (or CPU) time over objects alive at each
+// step's start.
+double ns_per_object_step(const StepTimingSink& s, std::int64_t first, std::int64_t last, bool cpu = false) {
+  double time = 0.0, object_steps = 0.0;
   for (std::int64_t k = first; k <= last; ++k) {
-    wall += s.step_s[static_cast<std::size_t>(k - 1)];
+    time += (cpu ? s.step_cpu_s : s.step_s)[static_cast<std::size_t>(k - 1)];
     object_steps += static_cast<double>(s.objects_at_start[static_cast<std::size_t>(k - 1)]);
   }
-  return wall * 1e9 / object_steps;
+  return time * 1e9 / object_steps;
 }
 
 // Peak resident memory since the last reset [bytes]: VmHWM of /proc/self/status (0 where unreadable).
@@ -195,19 +202,28 @@ void measure_generation(BreakupEvent event, int repeats, JsonLine& line) {
 // narrow phase, but its boxes all overlap); the steps after them screen every pair.
 void add_insert_detection(const StepTimingSink& s, std::int64_t insert_step, std::int64_t after_steps,
                           std::int64_t rss_before, JsonLine& line) {
-  const auto at = [&](std::int64_t k) { return s.step_s[static_cast<std::size_t>(insert_step + k - 1)]; };
-  const auto kSeparationSteps = static_cast<std::int64_t>(BreakupSettings{}.separation_s / 30.0);  // 20
-  std::vector<double> young, parted;
+  const auto index = [&](std::int64_t k) { return static_cast<std::size_t>(insert_step + k - 1); };
+  const auto separation_steps = static_cast<std::int64_t>(BreakupSettings{}.separation_s / 30.0);  // 20
+  std::vector<double> young, young_cpu, parted, parted_cpu;
   for (std::int64_t k = 1; k <= after_steps; ++k) {
-    line.add("insert_detect_step_" + std::to_string(k) + "_s", at(k));
-    (k <= kSeparationSteps ? young : parted).push_back(at(k));
-    std::fprintf(stderr, "insert, detection: step %lld after the breakup: %.4f s\n", static_cast<long long>(k),
-                 at(k));
+    const double wall = s.step_s[index(k)], cpu = s.step_cpu_s[index(k)];
+    const std::string key = "insert_detect_step_" + std::to_string(k);
+    line.add(key + "_s", wall).add(key + "_cpu_s", cpu);
+    (k <= separation_steps ? young : parted).push_back(wall);
+    (k <= separation_steps ? young_cpu : parted_cpu).push_back(cpu);
+    std::fprintf(stderr, "insert, detection: step %lld after the breakup (%llu objects): %.4f s, %.4f CPU s\n",
+                 static_cast<long long>(k), static_cast<unsigned long long>(s.objects_at_start[index(k)]), wall,
+                 cpu);
   }
-  line.add("insert_detect_young_median_s", median(young))
+  const auto sum = [](const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0); };
+  line.add("insert_detect_separation_steps", separation_steps)
+      .add("insert_detect_young_median_s", median(young))
+      .add("insert_detect_young_median_cpu_s", median(young_cpu))
       .add("insert_detect_young_max_s", *std::max_element(young.begin(), young.end()))
-      .add("insert_detect_young_total_s", std::accumulate(young.begin(), young.end(), 0.0));
-  if (!parted.empty()) line.add("insert_detect_parted_median_s", median(parted));
+      .add("insert_detect_young_total_s", sum(young))
+      .add("insert_detect_young_total_cpu_s", sum(young_cpu));
+  if (!parted.empty())
+    line.add("insert_detect_parted_median_s", median(parted)).add("insert_detect_parted_median_cpu_s", median(parted_cpu));
   line.add("insert_rss_before_bytes", rss_before).add("insert_peak_rss_bytes", peak_rss_bytes());
 }
 
@@ -235,6 +251,11 @@ bool measure_insert(const Population& leo, const ScheduledBreakup& collision, co
   const double before = median_steps(st, 2, insert_step - 1);  // step 1 warms up
   const double after = median_steps(st, insert_step + 1, insert_step + insert_after);
   const double insert_s = st[static_cast<std::size_t>(insert_step - 1)] - before;
+  // The same in CPU time: the loop runs on one thread, so other programs on the cores do not count.
+  const auto& ct = r.sink->step_cpu_s;
+  const double before_cpu = median_steps(ct, 2, insert_step - 1);
+  const double after_cpu = median_steps(ct, insert_step + 1, insert_step + insert_after);
+  const double insert_cpu_s = ct[static_cast<std::size_t>(insert_step - 1)] - before_cpu;
   std::fprintf(stderr,
                "insert: %llu fragments at the end of step %lld: that step %.4f s, median step before %.4f s, "
                "after %.4f s (%llu objects)\n",
@@ -262,6 +283,10 @@ bool measure_insert(const Population& leo, const ScheduledBreakup& collision, co
       .add("insert_step_before_s", before)
       .add("insert_step_after_s", after)
       .add("insert_steps", insert_s / after)
+      .add("insert_cpu_s", insert_cpu_s)
+      .add("insert_step_before_cpu_s", before_cpu)
+      .add("insert_step_after_cpu_s", after_cpu)
+      .add("insert_steps_cpu", insert_cpu_s / after_cpu)
       .add("insert_conjunctions_after", static_cast<std::int64_t>(a[0] + a[1] + a[2]))
       .add("insert_conjunctions_after_fragment_fragment", static_cast<std::int64_t>(a[2]));
   if (detection) add_insert_detection(*r.sink, insert_step, insert_after, rss_before, line);
@@ -278,6 +303,8 @@ void measure_growth(const Population& leo, const ScheduledBreakup& collision, st
   const StepTimingSink& s = *r.sink;
   const double before = ns_per_object_step(s, 2, growth_steps - 1);
   const double after = ns_per_object_step(s, growth_steps + 1, 2 * growth_steps);
+  const double before_cpu = ns_per_object_step(s, 2, growth_steps - 1, true);
+  const double after_cpu = ns_per_object_step(s, growth_steps + 1, 2 * growth_steps, true);
   const auto* a = s.after_by_fragments;
   const auto* b = s.before_by_fragments;
   std::fprintf(stderr,
@@ -293,6 +320,9 @@ void measure_growth(const Population& leo, const ScheduledBreakup& collision, st
       .add("ns_per_object_step_before", before)
       .add("ns_per_object_step_after", after)
       .add("after_over_before", after / before)
+      .add("cpu_ns_per_object_step_before", before_cpu)
+      .add("cpu_ns_per_object_step_after", after_cpu)
+      .add("cpu_after_over_before", after_cpu / before_cpu)
       .add("breakup_step_s", s.step_s[static_cast<std::size_t>(growth_steps - 1)])
       .add("conjunctions_before", static_cast<std::int64_t>(b[0] + b[1] + b[2]))
       .add("conjunctions_after", static_cast<std::int64_t>(a[0] + a[1] + a[2]))

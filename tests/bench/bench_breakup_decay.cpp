@@ -109,6 +109,30 @@ Remaining remaining_at(const DecaySink& s, double t_s) {
   return r;
 }
 
+// The run: from one step before the closest approach to `to`, the collision at the end of step 1.
+SimulationConfig decay_config(const UtcEpoch& tca, const UtcEpoch& to, double dt_s, double lc_min, int threads,
+                              std::int64_t seed) {
+  SimulationConfig config;
+  config.start_epoch = tca.plus_seconds(-dt_s);
+  config.dt_s = dt_s;
+  config.duration_s = to.seconds_since(config.start_epoch);
+  config.threads = threads;
+  config.conjunctions_enabled = false;
+  config.checkpoint_every_steps = 0;
+  config.checkpoint_every_wall_s = 0.0;
+  config.progress_every_steps = static_cast<std::int64_t>(365.25 * 86400.0 / dt_s);
+  config.seed = static_cast<std::uint64_t>(seed);
+  config.breakups.enabled = true;
+  config.breakups.min_characteristic_length_m = lc_min;
+  ScheduledBreakup collision;
+  collision.kind = BreakupKind::kCollision;
+  collision.object_ids = {kIridium, kCosmos};
+  collision.masses_kg = {560.0, 950.0};
+  collision.step = 1;
+  config.breakups.scheduled = {collision};
+  return config;
+}
+
 int bench_breakup_decay(int argc, char** argv) {
   Args args(argc, argv);
   args.allow_only({"--to", "--dt", "--lc-min", "--threads", "--seed", "--tle"});
@@ -125,25 +149,7 @@ int bench_breakup_decay(int argc, char** argv) {
   }
   omp_set_num_threads(threads);
 
-  SimulationConfig config;
-  config.start_epoch = tca.plus_seconds(-dt_s);
-  config.dt_s = dt_s;
-  config.duration_s = to->seconds_since(config.start_epoch);
-  config.threads = threads;
-  config.conjunctions_enabled = false;
-  config.checkpoint_every_steps = 0;
-  config.checkpoint_every_wall_s = 0.0;
-  config.progress_every_steps = static_cast<std::int64_t>(365.25 * 86400.0 / dt_s);
-  config.seed = static_cast<std::uint64_t>(args.get_int("--seed", 20090210));
-  config.breakups.enabled = true;
-  config.breakups.min_characteristic_length_m = lc_min;
-  ScheduledBreakup collision;
-  collision.kind = BreakupKind::kCollision;
-  collision.object_ids = {kIridium, kCosmos};
-  collision.masses_kg = {560.0, 950.0};
-  collision.step = 1;
-  config.breakups.scheduled = {collision};
-
+  const SimulationConfig config = decay_config(tca, *to, dt_s, lc_min, threads, args.get_int("--seed", 20090210));
   DecaySink sink;
   RunSummary summary;
   double wall_s = 0.0;
