@@ -1,5 +1,5 @@
 // kessler-bench breakup: NASA Standard Breakup Model generation speed for the catastrophic reference
-// collision (560 kg + 950 kg spacecraft at 11.7 km/s) down to --lc-min (default 1 cm: about 88,000
+// collision (560 kg + 950 kg spacecraft at 11.7 km/s) down to --lc-min (default 1 cm: 63,713
 // fragments). Each repeat generates the whole cloud (event id = repeat); the figure is the median.
 //   --lc-min M (default 0.01)  --threads T (default 1)  --repeats R (default 3)
 //
