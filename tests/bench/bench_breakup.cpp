@@ -399,8 +399,9 @@ int bench_breakup(int argc, char** argv) {
 KESSLER_BENCH("breakup",
               "NASA breakup model: fragments generated per second, catastrophic reference collision "
               "(--lc-min 0.01, --threads 1, --repeats 3); then leo-19647 runs with scheduled breakups: "
-              "insert_s of ~100,000 fragments (--skip-insert, --insert-step 30, --insert-after 5) and ns per "
-              "object-step before and after Iridium/Cosmos (--skip-growth, --growth-steps 300)",
+              "insert_s of ~100,000 fragments (--skip-insert, --insert-step 30, --insert-after 5; "
+              "--insert-detection: each step after it with detection, peak RSS) and ns per object-step "
+              "before and after Iridium/Cosmos (--skip-growth, --growth-steps 300)",
               bench_breakup);
 
 }  // namespace kessler::bench
