@@ -164,6 +164,14 @@ std::string encode_checkpoint(const CheckpointState& s) {
     w.u64(b.group);
     w.f64(b.until_s);
   }
+  w.u64(s.traffic.next_launch);
+  w.u64(s.traffic.active.size());
+  for (const ActiveLife& a : s.traffic.active) {
+    w.u64(a.id);
+    w.f64(a.end_of_life_s);
+    w.f64(a.drag_area_to_mass_m2_kg);
+    w.u8(a.keeps_station ? 1 : 0);
+  }
 
   const std::string& payload = w.bytes();
   Sha256 sum;
@@ -203,6 +211,19 @@ void read_breakups(Reader& r, CheckpointState& s) {
     b.group = static_cast<BreakupId>(r.u64("separating breakups"));
     b.until_s = r.f64("separating breakups");
     s.breakups.separating.push_back(b);
+  }
+}
+// Version 4's traffic state.
+void read_traffic(Reader& r, CheckpointState& s) {
+  s.traffic.next_launch = r.u64("launch counter");
+  const std::uint64_t active = r.u64("active lifecycles");
+  if (active > kMaxObjects) throw std::runtime_error("checkpoint: implausible active lifecycles");
+  s.traffic.active.resize(active);
+  for (ActiveLife& a : s.traffic.active) {
+    a.id = r.u64("active lifecycles");
+    a.end_of_life_s = r.f64("active lifecycles");
+    a.drag_area_to_mass_m2_kg = r.f64("active lifecycles");
+    a.keeps_station = r.u8("active lifecycles") != 0;
   }
 }
 }  // namespace
@@ -261,6 +282,7 @@ CheckpointState decode_checkpoint(const std::string& bytes) {
   p.separation_group.assign(n, 0);
   if (version >= 2) s.breakups.next_fragment_id = r.u64("fragment id counter");
   if (version >= 3) read_breakups(r, s);
+  if (version >= 4) read_traffic(r, s);
   if (!r.at_end()) throw std::runtime_error("checkpoint: trailing bytes at the end");
   if (s.step < 0 || s.step > s.total_steps || s.next_seq == 0)
     throw std::runtime_error("checkpoint: inconsistent step counter or sequence number");

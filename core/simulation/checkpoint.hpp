@@ -28,11 +28,14 @@ struct CheckpointState : RunCounters {
   // The breakups' ids and separating groups (breakups.hpp). Version 1 has none (a run from it has made
   // no fragments); version 2 only the fragment id counter.
   BreakupIds breakups;
+  // The launches made and the actives' lifecycles (traffic.hpp); version 4.
+  TrafficState traffic;
 };
 
 // Version 2 appends next_fragment_id after the population; version 3 the population's types and
-// separation groups, the breakup counter and the separating breakups. Versions 1 and 2 are still read.
-inline constexpr std::uint32_t kCheckpointVersion = 3;
+// separation groups, the breakup counter and the separating breakups; version 4 the traffic state.
+// Versions 1 to 3 are still read.
+inline constexpr std::uint32_t kCheckpointVersion = 4;
 inline constexpr std::uint32_t kOldestCheckpointVersion = 1;
 
 std::string encode_checkpoint(const CheckpointState& state);

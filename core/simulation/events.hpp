@@ -2,7 +2,8 @@
 //
 // Every event carries a sequence number, assigned by the simulation in a deterministic order (step by
 // step; within a step: encounters in canonical order, then burn-ups by id, then breakups (collisions in
-// canonical order, then scheduled ones in schedule order), then progress). A run resumed
+// canonical order, then scheduled ones in schedule order), then lifecycle events (ends of life, then
+// launches), then progress). A run resumed
 // from a checkpoint re-emits the events after the checkpoint's sequence number with the same numbers and
 // the same contents, so a consumer can store idempotently by sequence number.
 #pragma once
@@ -17,6 +18,7 @@
 #include "core/integration/burn_up.hpp"
 #include "core/population/population.hpp"
 #include "core/simulation/breakups.hpp"
+#include "core/simulation/traffic.hpp"
 
 namespace kessler {
 
@@ -50,7 +52,7 @@ struct PhaseTimers {
 
 // What a run has counted so far: kept by the loop, carried by a checkpoint, reported in the summary.
 struct RunCounters {
-  std::uint64_t events = 0;        // encounters (all kinds) + burn-ups + breakups
+  std::uint64_t events = 0;        // encounters (all kinds) + burn-ups + breakups + lifecycle events
   std::uint64_t conjunctions = 0;  // conjunctions and collisions (a collision is also a conjunction)
   std::uint64_t collisions = 0;
   std::uint64_t evasions = 0;
@@ -99,6 +101,8 @@ class EventSink {
   // A breakup (SimulationConfig::breakups, scheduled or a collision); only runs with breakups enabled
   // have them.
   virtual void on_breakup(std::uint64_t /*seq*/, const BreakupReport& /*breakup*/) {}
+  // A launch, end of life or disposal (SimulationConfig::traffic); only runs with traffic have them.
+  virtual void on_lifecycle(std::uint64_t /*seq*/, const LifecycleReport& /*event*/) {}
   // A checkpoint, complete and self-contained: every event with a sequence number <= last_seq was
   // handed over before it. Store it atomically; a run resumes from these bytes.
   virtual void on_checkpoint(std::uint64_t last_seq, std::int64_t step, const std::string& bytes) = 0;

@@ -25,7 +25,8 @@ double seconds_since(Clock::time_point t0) {
 }
 
 // Event tags inside the events digest.
-constexpr std::uint64_t kTagEncounter = 1, kTagBurnUp = 2, kTagProgress = 3, kTagBreakup = 4;
+constexpr std::uint64_t kTagEncounter = 1, kTagBurnUp = 2, kTagProgress = 3, kTagBreakup = 4,
+                        kTagLifecycle = 5;
 
 void hash_breakup_settings(Sha256& h, const BreakupSettings& b) {
   h.update("breakups-v2");
@@ -47,6 +48,25 @@ void hash_breakup_settings(Sha256& h, const BreakupSettings& b) {
     h.update_f64(e.impact_speed_m_s.value_or(0.0));
     h.update_u64(e.masses_kg.size());
     for (double m : e.masses_kg) h.update_f64(m);
+  }
+}
+
+void hash_traffic_settings(Sha256& h, const TrafficSettings& t) {
+  h.update("traffic-v1");
+  h.update_f64(t.disposal.success_probability);
+  h.update_f64(t.disposal.target_lifetime_years);
+  h.update_u64(t.disposal.deorbit);
+  h.update_u64(t.launches.size());
+  for (const PlannedObject& o : t.launches) {
+    h.update_f64(o.epoch_offset_s);
+    h.update_u64(o.row);
+    h.update_u64(o.index);
+    for (double v : {o.elements.semi_major_axis_m, o.elements.eccentricity, o.elements.inclination_rad,
+                     o.elements.raan_rad, o.elements.argument_of_perigee_rad, o.elements.mean_anomaly_rad,
+                     o.mass_kg, o.radius_m, o.lifetime_s})
+      h.update_f64(v);
+    h.update_u64(static_cast<std::uint64_t>(o.type));
+    h.update_u64(o.manoeuvres);
   }
 }
 
@@ -74,6 +94,7 @@ std::string config_key(const SimulationConfig& c) {
   h.update_u64(c.seed);
   // Only when enabled, so that the keys (and checkpoints) of runs without breakups stay as they were.
   if (c.breakups.enabled) hash_breakup_settings(h, c.breakups);
+  if (c.traffic.enabled) hash_traffic_settings(h, c.traffic);
   return h.hex_digest();
 }
 
@@ -130,6 +151,17 @@ void hash_breakup(Sha256& h, std::uint64_t seq, const BreakupReport& b) {
     for (double v : {f.characteristic_length_m, f.area_to_mass_m2_kg, f.mass_kg, f.delta_v_m_s})
       h.update_f64(v);
   }
+}
+
+void hash_lifecycle(Sha256& h, std::uint64_t seq, const LifecycleReport& e) {
+  h.update_u64(kTagLifecycle);
+  h.update_u64(seq);
+  h.update_u64(static_cast<std::uint64_t>(e.kind));
+  h.update_f64(e.time_s);
+  h.update_u64(e.first_id);
+  h.update_u64(e.last_id);
+  h.update_u64(e.row);
+  h.update_f64(e.altitude_m);
 }
 
 // Only the deterministic fields: wall time and ETA differ between runs.
@@ -201,6 +233,7 @@ struct Simulation::State {
   ClosestEncounterTable closest;
   std::int64_t last_checkpoint_step = -1;
   BreakupIds breakups;  // run-level: fragment ids and breakup numbers never repeat in a run
+  TrafficState traffic;
 
   CheckpointState snapshot(double wall_s) const {
     CheckpointState c;
@@ -215,6 +248,7 @@ struct Simulation::State {
     c.closest_per_pair = closest.entries();
     c.population = population;
     c.breakups = breakups;
+    c.traffic = traffic;
     return c;
   }
 };
@@ -254,6 +288,7 @@ std::unique_ptr<Simulation> Simulation::resume(const SimulationConfig& config, c
   for (const auto& e : c.closest_per_pair) s.closest.update(e);
   s.last_checkpoint_step = c.step;
   s.breakups = c.breakups;
+  s.traffic = c.traffic;
   return sim;
 }
 
@@ -299,6 +334,7 @@ struct Simulation::RunLoop {
   void remove_burn_ups();
   void break_up(const std::vector<Encounter>& step_encounters);
   void emit_breakup(const BreakupReport& report);
+  void run_traffic();
   void emit_progress(double t1_s);
   RunSummary finish();
 
@@ -427,6 +463,9 @@ std::size_t Simulation::RunLoop::propagate_batch() {
     batch_end = std::min(batch_end, *breakup);
   if (const auto parted = next_separation_end_step(s.breakups, s.step, cfg.dt_s))
     batch_end = std::min(batch_end, *parted);
+  // Launches and ends of life change the population at their boundaries too.
+  if (const auto traffic = next_traffic_step(cfg.traffic, s.traffic, s.step, cfg.dt_s))
+    batch_end = std::min(batch_end, *traffic);
   Population& pop = s.population;
   end_separations(static_cast<double>(s.step) * cfg.dt_s, pop, s.breakups);
   const std::int64_t batch_start = s.step;
@@ -501,6 +540,7 @@ void Simulation::RunLoop::emit_batch(std::size_t steps) {
       emit_burn_ups();
       remove_burn_ups();
       break_up(encounters[j]);
+      run_traffic();
     }
     ++s.step;
     if (s.step % progress_every == 0 || s.step == s.total_steps) emit_progress(t1_s);
@@ -569,6 +609,26 @@ void Simulation::RunLoop::emit_breakup(const BreakupReport& report) {
   hash_breakup(s.events_hash, seq, report);
   ++s.counters.events;
   sink.on_breakup(seq, report);
+}
+
+// The lifecycle at the boundary the batch ends on (s.step + 1): ends of life due (by end, then id), then
+// the launches due (plan order); one event each (a launch event per plan row). Counted as burn-up time.
+void Simulation::RunLoop::run_traffic() {
+  if (!cfg.traffic.enabled) return;
+  auto t = Clock::now();
+  const std::int64_t boundary = s.step + 1;
+  const double t1_s = static_cast<double>(boundary) * cfg.dt_s;
+  std::vector<LifecycleReport> reports =
+      retire_due(cfg.traffic, cfg.seed, t1_s, cfg.burn_up_altitude_m, s.population, s.traffic);
+  for (const LifecycleReport& r : launch_due(cfg.traffic, boundary, cfg.dt_s, s.population, s.traffic))
+    reports.push_back(r);
+  for (const LifecycleReport& r : reports) {
+    const std::uint64_t seq = s.next_seq++;
+    hash_lifecycle(s.events_hash, seq, r);
+    ++s.counters.events;
+    sink.on_lifecycle(seq, r);
+  }
+  timers.burn_up_s += seconds_since(t);
 }
 
 // Progress after step s.step, ending at t1_s.

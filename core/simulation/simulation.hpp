@@ -38,8 +38,10 @@ struct SimulationConfig {
   // per thread where their memory fits steps_in_flight_for's budget, else 1; 1: one step at a time on
   // the whole team. Never changes a result.
   int scan_steps_at_once = 0;
-  // Scheduled breakups (breakups.hpp); off by default, and then nothing of them runs.
+  // Breakups (breakups.hpp); off by default, and then nothing of them runs.
   BreakupSettings breakups;
+  // Launches and lifecycles (traffic.hpp); off by default, and then nothing of them runs.
+  TrafficSettings traffic;
 };
 
 // Steps in a run: whole steps of dt_s that fit in duration_s (a last partial step is not taken).

@@ -175,8 +175,9 @@ TEST(ScheduledBreakups, VersionOneCheckpointsAreRead) {
   s.total_steps = 2;
   s.population = test_population(3);
   std::string bytes = encode_checkpoint(s);
-  // Less version 3's types and groups (3 objects), breakup counter and separating list, and the counter.
-  const std::size_t payload = bytes.size() - 8 - 12 - 32 - (3 * 1 + 3 * 8 + 8 + 8) - 8;
+  // Less version 3's types and groups (3 objects), breakup counter and separating list, version 4's
+  // traffic state (counter, empty list), and the counter.
+  const std::size_t payload = bytes.size() - 8 - 12 - 32 - (3 * 1 + 3 * 8 + 8 + 8) - (8 + 8) - 8;
   std::string v1 = bytes.substr(0, 8);
   for (std::uint32_t k = 0, v = 1; k < 4; ++k) v1.push_back(static_cast<char>(v >> (8 * k)));
   for (std::uint64_t k = 0; k < 8; ++k) v1.push_back(static_cast<char>(payload >> (8 * k)));

@@ -283,7 +283,7 @@ TEST(Simulation, CorruptOrForeignCheckpointsAreRefused) {
   std::string future = good;
   future[8] = 9;
   EXPECT_EQ(message(future, config),
-            "checkpoint: format version 9 is not supported (this build reads 1 to 3)");
+            "checkpoint: format version 9 is not supported (this build reads 1 to 4)");
   auto other = config;
   other.dt_s = 5.0;
   EXPECT_NE(message(good, other).find("different scenario"), std::string::npos);
