@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -145,12 +146,20 @@ void hash_breakup(Sha256& h, std::uint64_t seq, const BreakupReport& b) {
   h.update_u64(b.first_id);
   h.update_u64(b.last_id);
   h.update_u64(b.remnant_id);
+  // The fragments' fields as one run of little-endian bytes (the digest is that of the same values
+  // hashed one by one; one update per cloud instead of six per fragment).
+  std::vector<std::uint8_t> bytes;
+  bytes.reserve(b.fragments.size() * 48);
+  auto put = [&bytes](std::uint64_t v) {
+    for (int i = 0; i < 8; ++i) bytes.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
+  };
   for (const FragmentReport& f : b.fragments) {
-    h.update_u64(f.id);
-    h.update_u64(f.parent_id);
+    put(f.id);
+    put(f.parent_id);
     for (double v : {f.characteristic_length_m, f.area_to_mass_m2_kg, f.mass_kg, f.delta_v_m_s})
-      h.update_f64(v);
+      put(std::bit_cast<std::uint64_t>(v));
   }
+  h.update(bytes.data(), bytes.size());
 }
 
 void hash_lifecycle(Sha256& h, std::uint64_t seq, const LifecycleReport& e) {
