@@ -59,6 +59,11 @@ std::optional<std::string> ConjunctionDetector::validate(const ConjunctionSettin
         << s.screening_distance_m;
     return why.str();
   }
+  if (!(s.active_passive_evasion_efficiency >= 0.0 && s.active_passive_evasion_efficiency <= 1.0)) {
+    why << "active_passive_evasion_efficiency: must be in [0, 1], got "
+        << s.active_passive_evasion_efficiency;
+    return why.str();
+  }
   if (!(s.active_passive_max_passive_radius_m >= 0.0)) {
     why << "active_passive_max_passive_radius_m: must be >= 0, got " << s.active_passive_max_passive_radius_m;
     return why.str();
@@ -115,7 +120,7 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
   const bool use_hulls = use_hulls_;
   grid_.prepare(n, threads);
   grid_.set_separation_groups(population.separation_group.size() == n ? population.separation_group.data()
-                                                                       : nullptr);
+                                                                      : nullptr);
   per_thread_.resize(static_cast<std::size_t>(threads));
   // Cleared here: OpenMP may give the region fewer threads than asked for.
   for (ThreadLists& lists : per_thread_) {
@@ -283,7 +288,8 @@ void ConjunctionDetector::examine_pair(const Population& population, const StepE
     e.v2_m_s = {v2[0], v2[1], v2[2]};
     e.relative_speed_m_s = (e.v1_m_s - e.v2_m_s).norm();
     e.kind = classify_encounter(settings_, population.status[i], population.radius_m[i], population.status[j],
-                                population.radius_m[j], minima[m].distance_m);
+                                population.radius_m[j], minima[m].distance_m,
+                                evasion_draw(settings_, e.id1, e.id2, e.tca_s));
     found.push_back(e);
   }
 }

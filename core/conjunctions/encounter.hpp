@@ -26,6 +26,12 @@ struct ConjunctionSettings {
   // passive object count only when the passive one is smaller than this radius; two passive always.
   bool active_pairs_evade = true;
   double active_passive_max_passive_radius_m = 0.10;
+  // The share of close approaches of an active object to a trackable passive one that the operator
+  // evades (1: all, the paper's rule). Below 1, each approach is evaded when a draw keyed by (seed, the
+  // pair, kEvasion, its time of closest approach) falls below it; the others count as conjunctions
+  // (and collisions). MOCAT-MC's alpha parameters are the reference for such efficiencies.
+  double active_passive_evasion_efficiency = 1.0;
+  std::uint64_t seed = 0;  // the run's seed, for those draws
 };
 
 enum class EncounterKind : std::uint8_t {

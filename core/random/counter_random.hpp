@@ -24,6 +24,9 @@ enum class RandomPurpose : std::uint64_t {
   // (disposal).
   kLaunchOrbit = 32,
   kDisposal = 33,
+  // Collision avoidance below full efficiency (core/conjunctions/pair_rules.hpp): id mixes the pair,
+  // the counter is the bits of the time of closest approach.
+  kEvasion = 34,
 };
 
 // SplitMix64's finaliser (Steele, Lea & Flood 2014): a bijective 64-bit mix.

@@ -7,7 +7,11 @@ namespace kessler {
 SimulationParts default_parts(const SimulationConfig& config, std::unique_ptr<Propagator> propagator) {
   SimulationParts parts;
   parts.propagator = std::move(propagator);
-  if (config.conjunctions_enabled) parts.scanner = make_detector_scanner(config.conjunctions);
+  if (config.conjunctions_enabled) {
+    ConjunctionSettings conjunctions = config.conjunctions;
+    conjunctions.seed = config.seed;  // the evasion draws'
+    parts.scanner = make_detector_scanner(conjunctions);
+  }
   return parts;
 }
 

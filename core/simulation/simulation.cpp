@@ -90,6 +90,8 @@ std::string config_key(const SimulationConfig& c) {
   h.update_f64(k.screening_distance_m);
   h.update_u64(k.active_pairs_evade);
   h.update_f64(k.active_passive_max_passive_radius_m);
+  // Only below 1, so that the keys of runs under the paper's rule stay as they were.
+  if (k.active_passive_evasion_efficiency < 1.0) h.update_f64(k.active_passive_evasion_efficiency);
   h.update_f64(c.burn_up_altitude_m);
   h.update_u64(static_cast<std::uint64_t>(c.progress_every_steps));
   h.update_u64(c.seed);

@@ -93,6 +93,51 @@ TEST(HandMade, ASharedSeparationGroupHidesThePairAndNothingElse) {
   EXPECT_EQ(testing::run_detector(pop, testing::kepler_snapshots(objects, 10.0, 12), 10.0, {}).size(), 3u);
 }
 
+// Collision avoidance below full efficiency: 40 active objects each crossing a trackable passive one,
+// far apart. At efficiency 1 every approach is an evasion (the paper), at 0 none is, at 0.5 about half
+// (a keyed draw per approach: the same on every call).
+TEST(HandMade, EvasionEfficiencyDecidesPerApproach) {
+  const double tc = 55.5, r1 = kRadius, r2 = kRadius + 8.0;
+  std::vector<KeplerState> objects;
+  constexpr int kPairs = 40;
+  for (int k = 0; k < kPairs; ++k) {
+    const double theta = 2.0 * 3.14159265358979 * k / kPairs;
+    const Eigen::Vector3d e1 = std::cos(theta) * X + std::sin(theta) * Y,
+                          e2 = -std::sin(theta) * X + std::cos(theta) * Y;
+    objects.push_back(circular(r1, e1, e2, -rate(r1) * tc));
+    objects.push_back(circular(r2, e1, Z, -rate(r2) * tc));
+  }
+  auto pop = testing::simple_population(objects, 5.0);
+  for (std::size_t i = 0; i < pop.size(); i += 2) pop.status[i] = ObjectStatus::kActive;
+  const auto snaps = testing::kepler_snapshots(objects, 10.0, 12);
+  auto count = [&](double efficiency, std::uint64_t seed) {
+    ConjunctionSettings s;
+    s.active_passive_evasion_efficiency = efficiency;
+    s.seed = seed;
+    int evasions = 0, collisions = 0;
+    const auto events = testing::run_detector(pop, snaps, 10.0, s);
+    EXPECT_EQ(events.size(), static_cast<std::size_t>(kPairs));
+    for (const Encounter& e : events) {
+      evasions += e.kind == EncounterKind::kEvasion;
+      collisions += e.kind == EncounterKind::kCollision;
+    }
+    return std::pair{evasions, collisions};
+  };
+  EXPECT_EQ(count(1.0, 1).first, kPairs);
+  const auto none = count(0.0, 1);
+  EXPECT_EQ(none.first, 0);
+  EXPECT_EQ(none.second, kPairs);  // 8 m apart, radii 5 + 5 m: not evaded, they hit
+  const int half = count(0.5, 1).first;
+  EXPECT_NEAR(half, kPairs / 2, 3.0 * std::sqrt(kPairs * 0.25));
+  EXPECT_EQ(count(0.5, 1).first, half);
+  int differ = 0;
+  for (std::uint64_t seed = 2; seed < 6; ++seed) differ += count(0.5, seed).first != half;
+  EXPECT_GT(differ, 0);
+  ConjunctionSettings bad;
+  bad.active_passive_evasion_efficiency = 1.5;
+  EXPECT_THROW(ConjunctionDetector{bad}, std::invalid_argument);
+}
+
 TEST(HandMade, CrossingAtRightAngles) {
   // Equatorial and polar orbits 80 m apart in radius, both over the x axis at t_c.
   const double tc = 55.5, r1 = kRadius, r2 = kRadius + 80.0;
