@@ -28,7 +28,6 @@ struct Thermosphere {
   const ModelInput& in;
   const Switches& s;
   const Profiles& pr;
-  ExpansionState& ex;
   TemperatureNodes& nodes;
   double zn1[5];
   double tinf = 0, tlb = 0, slope = 0;
@@ -56,9 +55,21 @@ struct SpeciesSpec {
   bool mix_inclusive;  // z <= mix_top (He uses z < mix_top)
 };
 
-double species(Thermosphere& th, const SpeciesSpec& sp, double z, int which) {
+constexpr SpeciesSpec kSpecies[] = {
+    {0, 0, 4.0, -0.38, 200.0, false},  // He
+    {1, 1, 16.0, 0.0, 300.0, true},    // O
+    {2, 2, 28.0, 0.0, 160.0, true},    // N2 (its own code below)
+    {4, 3, 32.0, 0.0, 250.0, true},    // O2
+    {5, 4, 40.0, 0.17, 240.0, true},   // Ar
+    {0, 0, 0.0, 0.0, 0.0, true},       // (total)
+    {6, 5, 1.0, -0.38, 320.0, true},   // H
+    {7, 6, 14.0, 0.0, 450.0, true},    // N
+    {8, 7, 16.0, 0.0, 0.0, true},      // anomalous O (its own code below)
+};
+
+// g: the species' density variation at the lower boundary (globe7 of its pd row).
+double species(Thermosphere& th, const SpeciesSpec& sp, double g, double z, int which) {
   const double* pdm_row = pdm[sp.pdm_row];
-  const double g = th.s.sw[21] * globe7(pd[sp.pd_row], th.in, th.s, th.ex);
   const double db = pdm_row[0] * std::exp(g) * pd[sp.pd_row][0];
   double d = th.densu(z, db, sp.mass, sp.alpha);
   const bool mixes = th.s.sw[15] != 0.0 && (sp.mix_inclusive ? z <= sp.mix_top : z < sp.mix_top);
@@ -102,10 +113,11 @@ double species(Thermosphere& th, const SpeciesSpec& sp, double z, int which) {
   return d;
 }
 
-// The lower thermosphere's temperature nodes (110, 100, 90, 72.5 km) and the gradient at 72.5 km; their
-// variations matter for density only below 300 km.
-void lower_thermosphere_nodes(const ModelInput& in, const Switches& s, ExpansionState& ex, TemperatureNodes& n) {
-  const bool vary = in.altitude_km < 300.0;
+// The lower thermosphere's temperature nodes (110, 100, 90, 72.5 km) and the gradient at 72.5 km; the
+// model varies them only below 300 km (`vary`), above it takes their means.
+TemperatureNodes lower_thermosphere_nodes(const ModelInput& in, const Switches& s, const ExpansionState& ex,
+                                          bool vary) {
+  TemperatureNodes n;
   auto g = [&](const double* p, double sw) { return vary ? sw * glob7s(p, in, s, ex) : 0.0; };
   n.tn1[1] = ptm[6] * ptl[0][0] / (1.0 - g(ptl[0], s.sw[18]));
   n.tn1[2] = ptm[2] * ptl[1][0] / (1.0 - g(ptl[1], s.sw[18]));
@@ -113,29 +125,47 @@ void lower_thermosphere_nodes(const ModelInput& in, const Switches& s, Expansion
   n.tn1[4] = ptm[4] * ptl[3][0] / (1.0 - g(ptl[3], s.sw[18] * s.sw[20]));
   n.tgn1[1] = ptm[8] * pma[8][0] * (1.0 + g(pma[8], s.sw[18] * s.sw[20])) * n.tn1[4] * n.tn1[4] /
               std::pow(ptm[4] * ptl[3][0], 2.0);
+  return n;
 }
 
-// The thermosphere (the model's gts7): every species at altitudes above 72.5 km. Also returns N2's mixed
-// density at the altitude (the whole model continues it below 72.5 km).
-Densities thermosphere(const ModelInput& in, const Switches& s, const Profiles& pr, ExpansionState& ex,
-                       TemperatureNodes& nodes, double& dm28) {
+}  // namespace
+
+// The thermosphere's altitude-independent part (the expansions of the model's gts7), in the order the
+// model evaluates them (glob7s reads the magnetic term of the last globe7 before it).
+ColumnTerms::ColumnTerms(const ModelInput& in, const Switches& s)
+    : input(in), switches(s), profiles(Profiles::at_latitude(s.sw[2] == 0.0 ? 45.0 : in.latitude_deg)) {
+  tinf_varying = ptm[0] * pt[0] * (1.0 + s.sw[16] * globe7(pt, in, s, ex));
+  tinf_mean = ptm[0] * pt[0];
+  g0_varying = ptm[3] * ps[0] * (1.0 + s.sw[19] * globe7(ps, in, s, ex));
+  g0_mean = ptm[3] * ps[0];
+  tlb = ptm[1] * (1.0 + s.sw[17] * globe7(pd[3], in, s, ex)) * pd[3][0];
+  nodes_low = lower_thermosphere_nodes(in, s, ex, true);
+  nodes_high = lower_thermosphere_nodes(in, s, ex, false);
+  for (int k : {2, 0, 1, 3, 4, 6, 7, 8}) g[k] = s.sw[21] * globe7(pd[kSpecies[k].pd_row], in, s, ex);
+}
+
+namespace {
+
+// The thermosphere (the model's gts7) at altitude z > 72.5 km of a column. Also returns N2's mixed
+// density at z (the whole model continues it below 72.5 km) and the nodes used.
+Densities thermosphere(const ColumnTerms& c, double z, double& dm28, TemperatureNodes& nodes) {
   Densities out;
-  Thermosphere th{in, s, pr, ex, nodes, {pdl[1][15], kZn1_km[1], kZn1_km[2], kZn1_km[3], kZn1_km[4]}};
-  const double z = in.altitude_km;
+  nodes = z < 300.0 ? c.nodes_low : c.nodes_high;
+  const Switches& s = c.switches;
+  const ModelInput& in = c.input;
+  Thermosphere th{in, s, c.profiles, nodes, {pdl[1][15], kZn1_km[1], kZn1_km[2], kZn1_km[3], kZn1_km[4]}};
   // Exospheric temperature, gradient and temperature at the lower boundary (120 km).
-  th.tinf = z > th.zn1[0] ? ptm[0] * pt[0] * (1.0 + s.sw[16] * globe7(pt, in, s, ex)) : ptm[0] * pt[0];
-  const double g0 = z > th.zn1[4] ? ptm[3] * ps[0] * (1.0 + s.sw[19] * globe7(ps, in, s, ex)) : ptm[3] * ps[0];
-  th.tlb = ptm[1] * (1.0 + s.sw[17] * globe7(pd[3], in, s, ex)) * pd[3][0];
+  th.tinf = z > th.zn1[0] ? c.tinf_varying : c.tinf_mean;
+  const double g0 = z > th.zn1[4] ? c.g0_varying : c.g0_mean;
+  th.tlb = c.tlb;
   th.slope = g0 / (th.tinf - th.tlb);
-  lower_thermosphere_nodes(in, s, ex, nodes);
   out.t_exo = th.tinf;
   th.xmm = pdm[2][4];
 
   // N2: the reference for every other species' turbopause.
-  const double g28 = s.sw[21] * globe7(pd[2], in, s, ex);
   const double zhf = pdl[1][24] * (1.0 + s.sw[5] * pdl[0][24] * std::sin(kDegToRad * in.latitude_deg) *
                                              std::cos(kDayRate * (in.day_of_year - pt[13])));
-  const double db28 = pdm[2][0] * std::exp(g28) * pd[2][0];
+  const double db28 = pdm[2][0] * std::exp(c.g[2]) * pd[2][0];
   out.d[2] = th.densu(z, db28, 28.0, 0.0);
   th.zhm28 = pdm[2][3] * pdl[1][5];
   th.b28 = th.densu(pdm[2][2] * zhf, db28, 28.0 - th.xmm, -1.0);
@@ -144,29 +174,17 @@ Densities thermosphere(const ModelInput& in, const Switches& s, const Profiles& 
     out.d[2] = dnet(out.d[2], th.dm28, th.zhm28, th.xmm, 28.0);
   }
   dm28 = th.dm28;
-
-  static constexpr SpeciesSpec kSpecies[] = {
-      {0, 0, 4.0, -0.38, 200.0, false},  // He
-      {1, 1, 16.0, 0.0, 300.0, true},    // O
-      {0, 0, 0.0, 0.0, 0.0, true},       // (N2, above)
-      {4, 3, 32.0, 0.0, 250.0, true},    // O2
-      {5, 4, 40.0, 0.17, 240.0, true},   // Ar
-      {0, 0, 0.0, 0.0, 0.0, true},       // (total)
-      {6, 5, 1.0, -0.38, 320.0, true},   // H
-      {7, 6, 14.0, 0.0, 450.0, true},    // N
-  };
-  for (int k : {0, 1, 3, 4, 6, 7}) out.d[k] = species(th, kSpecies[k], z, k);
+  for (int k : {0, 1, 3, 4, 6, 7}) out.d[k] = species(th, kSpecies[k], c.g[k], z, k);
 
   // Anomalous oxygen: a hot isothermal component with its own scale-height transition.
-  const double g16h = s.sw[21] * globe7(pd[8], in, s, ex);
-  const double db16h = pdm[7][0] * std::exp(g16h) * pd[8][0];
+  const double db16h = pdm[7][0] * std::exp(c.g[8]) * pd[8][0];
   const double tho = pdm[7][9] * pdl[0][6];
   double t_unused = 0.0;
-  const double dd = pr.densu(z, db16h, tho, tho, 16.0, 0.0, t_unused, ptm[5], th.slope, th.zn1, nodes.tn1,
-                             nodes.tgn1);
+  const double dd = c.profiles.densu(z, db16h, tho, tho, 16.0, 0.0, t_unused, ptm[5], th.slope, th.zn1,
+                                     nodes.tn1, nodes.tgn1);
   const double zsht = pdm[7][5];
   const double zmho = pdm[7][4];
-  const double zsho = pr.scale_height(zmho, 16.0, tho);
+  const double zsho = c.profiles.scale_height(zmho, 16.0, tho);
   out.d[8] = dd * std::exp(-zsht / zsho * (std::exp(-(z - zmho) / zsht) - 1.0));
 
   out.d[5] = mass_density(out.d);
@@ -196,17 +214,17 @@ void middle_atmosphere_nodes(const ModelInput& in, const Switches& s, const Expa
 
 Densities whole_model(const ModelInput& input, const Switches& s) {
   constexpr double kZmix = 62.5;
-  const Profiles pr = Profiles::at_latitude(s.sw[2] == 0.0 ? 45.0 : input.latitude_deg);
-  ExpansionState ex;
-  TemperatureNodes nodes;
   // The thermosphere at the altitude, or at 72.5 km for the profile below.
   ModelInput at = input;
   at.altitude_km = input.altitude_km > kZn2_km[0] ? input.altitude_km : kZn2_km[0];
+  const ColumnTerms column(at, s);
   double dm28 = 0.0;
-  const Densities top = thermosphere(at, s, pr, ex, nodes, dm28);
+  TemperatureNodes nodes;
+  const Densities top = thermosphere(column, at.altitude_km, dm28, nodes);
   if (input.altitude_km >= kZn2_km[0]) return top;
 
-  middle_atmosphere_nodes(input, s, ex, nodes);
+  const Profiles& pr = column.profiles;
+  middle_atmosphere_nodes(input, s, column.ex, nodes);
   Densities out;
   out.t_exo = top.t_exo;
   const double z = input.altitude_km;
@@ -227,13 +245,9 @@ Densities whole_model(const ModelInput& input, const Switches& s) {
   return out;
 }
 
-}  // namespace
-}  // namespace nrlmsise00
-
-MsisOutput nrlmsise00_density(const MsisInput& input, const nrlmsise00::Switches& switches) {
-  const nrlmsise00::Densities d = nrlmsise00::whole_model(input, switches);
-  constexpr double kPerCm3 = 1.0e6;      // cm^-3 -> m^-3
-  constexpr double kGPerCm3 = 1.0e3;     // g/cm^3 -> kg/m^3
+MsisOutput to_output(const Densities& d) {
+  constexpr double kPerCm3 = 1.0e6;   // cm^-3 -> m^-3
+  constexpr double kGPerCm3 = 1.0e3;  // g/cm^3 -> kg/m^3
   MsisOutput out;
   out.he = d.d[0] * kPerCm3;
   out.o = d.d[1] * kPerCm3;
@@ -244,10 +258,23 @@ MsisOutput nrlmsise00_density(const MsisInput& input, const nrlmsise00::Switches
   out.n = d.d[7] * kPerCm3;
   out.anomalous_o = d.d[8] * kPerCm3;
   out.rho_kg_m3 = d.d[5] * kGPerCm3;
-  out.rho_drag_kg_m3 = (d.d[5] + nrlmsise00::kAmu_g * 16.0 * d.d[8]) * kGPerCm3;
+  out.rho_drag_kg_m3 = (d.d[5] + kAmu_g * 16.0 * d.d[8]) * kGPerCm3;
   out.exospheric_temperature_k = d.t_exo;
   out.temperature_k = d.t_alt;
   return out;
+}
+
+}  // namespace
+}  // namespace nrlmsise00
+
+MsisOutput nrlmsise00_density(const MsisInput& input, const nrlmsise00::Switches& switches) {
+  return nrlmsise00::to_output(nrlmsise00::whole_model(input, switches));
+}
+
+MsisOutput nrlmsise00::ColumnTerms::at(double altitude_km) const {
+  double dm28 = 0.0;
+  TemperatureNodes nodes;
+  return to_output(thermosphere(*this, altitude_km, dm28, nodes));
 }
 
 }  // namespace kessler

@@ -11,6 +11,7 @@
 #pragma once
 
 #include "core/physics/nrlmsise00/expansions.hpp"
+#include "core/physics/nrlmsise00/profiles.hpp"
 
 namespace kessler {
 
@@ -34,4 +35,26 @@ struct MsisOutput {
 MsisOutput nrlmsise00_density(const MsisInput& input,
                               const nrlmsise00::Switches& switches = nrlmsise00::Switches::all_on());
 
+namespace nrlmsise00 {
+
+// The thermosphere along one vertical column (fixed time, latitude, longitude, local time, solar
+// inputs): the global expansions once, then the profile at any altitude above 72.5 km. at(h) gives the
+// same bits as nrlmsise00_density with the input's altitude set to h (the model's expansions do not
+// depend on altitude, only which of them it uses: above/below 120 km, 72.5 km and 300 km).
+struct ColumnTerms {
+  ColumnTerms(const ModelInput& input, const Switches& switches);
+  MsisOutput at(double altitude_km) const;
+
+  ModelInput input;
+  Switches switches;
+  Profiles profiles;
+  ExpansionState ex;
+  double tinf_varying = 0, tinf_mean = 0;  // exospheric temperature above / below 120 km
+  double g0_varying = 0, g0_mean = 0;      // temperature gradient at 120 km above / below 72.5 km
+  double tlb = 0;                          // temperature at 120 km
+  TemperatureNodes nodes_low, nodes_high;  // lower-thermosphere nodes below / above 300 km
+  double g[9] = {};                        // each species' variation at 120 km (model order)
+};
+
+}  // namespace nrlmsise00
 }  // namespace kessler
