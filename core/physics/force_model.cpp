@@ -48,7 +48,7 @@ ForceInstant ForceModel::instant(double t_s) const {
   f.cells = table.cells();
   if (msis_) {
     f.msis_grid_owner = msis_->grid_at(t_s);
-    f.msis_grid = f.msis_grid_owner->data();
+    f.msis_grid = f.msis_grid_owner.get();
     const double norm = std::sqrt(unit.x() * unit.x() + unit.y() * unit.y());
     f.sun_eq_x = unit.x() / norm;
     f.sun_eq_y = unit.y() / norm;

@@ -53,7 +53,7 @@ struct ForceInstant {
   // plane, and the grid's owner (keeps it alive while the instant is in use).
   const float* msis_grid = nullptr;
   double sun_eq_x = 1.0, sun_eq_y = 0.0;
-  std::shared_ptr<const std::vector<float>> msis_grid_owner;
+  std::shared_ptr<const float[]> msis_grid_owner;
 };
 
 template <AtmosphereModel kAtmosphere>

@@ -109,7 +109,7 @@ MsisInput MsisDensityGrid::model_input(double t_s, const Eigen::Vector3d& r) con
 MsisDensityGrid::Day MsisDensityGrid::build_day(std::int64_t day) const {
   Day out;
   out.day = day;
-  out.coefficients.assign(kNodes * kCoefficients, 0.0);
+  out.coefficients.assign(kNodes * kCoefficients, 0.0f);
   const DailySolarActivity solar = space_weather_ ? space_weather_->on_day(day, settings_)
                                                   : DailySolarActivity{settings_.f107_sfu, settings_.f107_sfu,
                                                                        settings_.ap};
@@ -122,7 +122,7 @@ MsisDensityGrid::Day MsisDensityGrid::build_day(std::int64_t day) const {
     gmst[k] = when.gmst_rad();
   }
   const nrlmsise00::Switches switches = nrlmsise00::Switches::all_on();
-  double* coefficients = out.coefficients.data();
+  float* coefficients = out.coefficients.data();
   // One column (latitude, local time) per iteration: its 5 UT samples, then each node's series.
 #pragma omp parallel for schedule(dynamic, 4)
   for (int column = 0; column < kNq * kNt; ++column) {
@@ -146,7 +146,7 @@ MsisDensityGrid::Day MsisDensityGrid::build_day(std::int64_t day) const {
       for (int iu = 0; iu < kNu; ++iu) samples[k][iu] = std::log(terms.at(node_altitude_km(iu)).rho_drag_kg_m3);
     }
     for (int iu = 0; iu < kNu; ++iu) {
-      double* c = coefficients + ((static_cast<std::size_t>(iq) * kNt + it) * kNu + iu) * kCoefficients;
+      double c[kCoefficients] = {};
       for (int k = 0; k < kUtSamples; ++k) {
         const double v = samples[k][iu];
         c[0] += v / kUtSamples;
@@ -156,6 +156,8 @@ MsisDensityGrid::Day MsisDensityGrid::build_day(std::int64_t day) const {
           c[2 * m] += 2.0 * v * std::sin(angle) / kUtSamples;
         }
       }
+      const std::size_t node = (static_cast<std::size_t>(iq) * kNt + it) * kNu + iu;
+      for (int j = 0; j < kCoefficients; ++j) coefficients[j * kNodes + node] = static_cast<float>(c[j]);
     }
   }
   return out;
@@ -169,7 +171,7 @@ const MsisDensityGrid::Day& MsisDensityGrid::day_coefficients(std::int64_t day) 
   return days_.back();
 }
 
-std::shared_ptr<const std::vector<float>> MsisDensityGrid::grid_at(double t_s) {
+std::shared_ptr<const float[]> MsisDensityGrid::grid_at(double t_s) {
   const UtcEpoch when = epoch_.plus_seconds(t_s);
   const std::int64_t day = day_number(when);
   const auto slot_of_day = static_cast<std::int64_t>(std::floor(when.jd_fraction() * (kDay_s / kSlot_s)));
@@ -185,18 +187,17 @@ std::shared_ptr<const std::vector<float>> MsisDensityGrid::grid_at(double t_s) {
     w[2 * m - 1] = std::cos(m * angle);
     w[2 * m] = std::sin(m * angle);
   }
-  auto grid = std::make_shared<std::vector<float>>(kNodes);
-  const double* c = d.coefficients.data();
-  float* g = grid->data();
+  std::shared_ptr<float[]> grid(new float[kNodes]);  // every element written below
+  const float* c = d.coefficients.data();
+  float* __restrict g = grid.get();
   for (std::size_t n = 0; n < kNodes; ++n) {
-    const double* k = c + n * kCoefficients;
-    double sum = 0.0;
-    for (int j = 0; j < kCoefficients; ++j) sum += k[j] * w[j];
+    double sum = c[n];
+    for (int j = 1; j < kCoefficients; ++j) sum += c[j * kNodes + n] * w[j];
     g[n] = static_cast<float>(sum);
   }
-  slots_.emplace_back(slot, grid);
+  slots_.emplace_back(slot, std::shared_ptr<const float[]>(std::move(grid)));
   if (slots_.size() > kSlotsKept) slots_.pop_front();
-  return grid;
+  return slots_.back().second;
 }
 
 }  // namespace kessler

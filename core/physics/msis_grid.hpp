@@ -104,7 +104,7 @@ class MsisDensityGrid {
                   std::shared_ptr<const SpaceWeather> space_weather);
 
   // The grid of the 60 s slot holding t_s (seconds since the epoch); kept alive by the pointer.
-  std::shared_ptr<const std::vector<float>> grid_at(double t_s);
+  std::shared_ptr<const float[]> grid_at(double t_s);
 
   // The full model where the grid stands for a TEME position at t_s: geocentric latitude, altitude
   // |r| - R_eq, local solar time from the Sun's right ascension, longitude from GMST, the day's inputs.
@@ -122,7 +122,9 @@ class MsisDensityGrid {
  private:
   struct Day {
     std::int64_t day = 0;
-    std::vector<double> coefficients;  // per node: mean, cos, sin, cos 2, sin 2
+    // kUtSamples arrays of kNodes: the mean, then cos and sin of each UT harmonic (floats: ln rho to
+    // ~4e-6, and half the bytes each slot reads).
+    std::vector<float> coefficients;
   };
   const Day& day_coefficients(std::int64_t day);  // with mutex_ held
   Day build_day(std::int64_t day) const;
@@ -132,7 +134,7 @@ class MsisDensityGrid {
   std::shared_ptr<const SpaceWeather> space_weather_;
   std::mutex mutex_;
   std::deque<Day> days_;  // the last two days built
-  std::deque<std::pair<std::int64_t, std::shared_ptr<const std::vector<float>>>> slots_;  // the last few
+  std::deque<std::pair<std::int64_t, std::shared_ptr<const float[]>>> slots_;  // the last few
 };
 
 }  // namespace kessler

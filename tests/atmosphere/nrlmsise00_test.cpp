@@ -132,3 +132,32 @@ TEST(Nrlmsise00, DragDensityAddsAnomalousOxygen) {
 
 }  // namespace
 }  // namespace kessler
+
+namespace kessler {
+namespace {
+
+// One column's expansions reused at many altitudes (the grid's build) give the full model's bits.
+TEST(Nrlmsise00, ColumnGivesTheFullModelsBits) {
+  MsisInput in;
+  in.day_of_year = 300;
+  in.ut_s = 5000;
+  in.latitude_deg = -35;
+  in.longitude_deg = 120;
+  in.local_solar_time_h = 21;
+  in.f107 = 200;
+  in.f107_avg = 180;
+  in.ap = 30;
+  const nrlmsise00::ColumnTerms column(in, nrlmsise00::Switches::all_on());
+  for (double h : {90.0, 100.0, 119.0, 121.0, 155.0, 199.0, 299.0, 301.0, 449.0, 451.0, 800.0, 2000.0, 140.0, 95.0}) {
+    MsisInput at = in;
+    at.altitude_km = h;
+    const MsisOutput full = nrlmsise00_density(at);
+    const MsisOutput fast = column.at(h);
+    EXPECT_EQ(full.rho_drag_kg_m3, fast.rho_drag_kg_m3) << h;
+    EXPECT_EQ(full.o, fast.o) << h;
+    EXPECT_EQ(full.temperature_k, fast.temperature_k) << h;
+  }
+}
+
+}  // namespace
+}  // namespace kessler

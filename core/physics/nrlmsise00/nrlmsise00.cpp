@@ -68,13 +68,19 @@ constexpr SpeciesSpec kSpecies[] = {
 };
 
 // g: the species' density variation at the lower boundary (globe7 of its pd row).
-double species(Thermosphere& th, const SpeciesSpec& sp, double g, double z, int which) {
+// turbopause: the column's cache of the species' mixed density at its turbopause height (it depends on the
+// altitude only through the regime the model picks: above/below 120, 72.5 and 300 km).
+double species(Thermosphere& th, const SpeciesSpec& sp, double g, double z, int which, TurbopauseCache& turbopause) {
   const double* pdm_row = pdm[sp.pdm_row];
   const double db = pdm_row[0] * std::exp(g) * pd[sp.pd_row][0];
   double d = th.densu(z, db, sp.mass, sp.alpha);
   const bool mixes = th.s.sw[15] != 0.0 && (sp.mix_inclusive ? z <= sp.mix_top : z < sp.mix_top);
   if (mixes) {
-    const double b = th.densu(pdm_row[2], db, sp.mass - th.xmm, sp.alpha - 1.0);
+    if (!turbopause.has[which]) {
+      turbopause.b[which] = th.densu(pdm_row[2], db, sp.mass - th.xmm, sp.alpha - 1.0);
+      turbopause.has[which] = true;
+    }
+    const double b = turbopause.b[which];
     const double dm = th.densu(z, b, th.xmm, 0.0);
     d = dnet(d, dm, th.zhm28, th.xmm, sp.mass);
     switch (which) {
@@ -168,13 +174,19 @@ Densities thermosphere(const ColumnTerms& c, double z, double& dm28, Temperature
   const double db28 = pdm[2][0] * std::exp(c.g[2]) * pd[2][0];
   out.d[2] = th.densu(z, db28, 28.0, 0.0);
   th.zhm28 = pdm[2][3] * pdl[1][5];
-  th.b28 = th.densu(pdm[2][2] * zhf, db28, 28.0 - th.xmm, -1.0);
+  const int regime = (z > th.zn1[0] ? 1 : 0) + (z > th.zn1[4] ? 2 : 0) + (z < 300.0 ? 4 : 0);
+  TurbopauseCache& turbopause = c.turbopause[regime];
+  if (!turbopause.has[2]) {
+    turbopause.b[2] = th.densu(pdm[2][2] * zhf, db28, 28.0 - th.xmm, -1.0);
+    turbopause.has[2] = true;
+  }
+  th.b28 = turbopause.b[2];
   if (s.sw[15] != 0.0 && z <= 160.0) {
     th.dm28 = th.densu(z, th.b28, th.xmm, 0.0);
     out.d[2] = dnet(out.d[2], th.dm28, th.zhm28, th.xmm, 28.0);
   }
   dm28 = th.dm28;
-  for (int k : {0, 1, 3, 4, 6, 7}) out.d[k] = species(th, kSpecies[k], c.g[k], z, k);
+  for (int k : {0, 1, 3, 4, 6, 7}) out.d[k] = species(th, kSpecies[k], c.g[k], z, k, turbopause);
 
   // Anomalous oxygen: a hot isothermal component with its own scale-height transition.
   const double db16h = pdm[7][0] * std::exp(c.g[8]) * pd[8][0];

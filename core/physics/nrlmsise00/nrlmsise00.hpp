@@ -37,6 +37,12 @@ MsisOutput nrlmsise00_density(const MsisInput& input,
 
 namespace nrlmsise00 {
 
+// Species' mixed densities at their turbopause heights for one regime of a column (computed on first use).
+struct TurbopauseCache {
+  bool has[9] = {};
+  double b[9] = {};
+};
+
 // The thermosphere along one vertical column (fixed time, latitude, longitude, local time, solar
 // inputs): the global expansions once, then the profile at any altitude above 72.5 km. at(h) gives the
 // same bits as nrlmsise00_density with the input's altitude set to h (the model's expansions do not
@@ -54,6 +60,8 @@ struct ColumnTerms {
   double tlb = 0;                          // temperature at 120 km
   TemperatureNodes nodes_low, nodes_high;  // lower-thermosphere nodes below / above 300 km
   double g[9] = {};                        // each species' variation at 120 km (model order)
+  // Filled by at(): not thread-safe, one column per thread.
+  mutable TurbopauseCache turbopause[8];
 };
 
 }  // namespace nrlmsise00
