@@ -149,15 +149,24 @@ void composed_range(const StepArrays& s, long begin, long end, const StepPlan& p
 template <int kKicks>
 void range_with(const StepArrays& s, long begin, long end, const StepPlan& plan, StateArrays* start,
                 char* burn_up_flags, double burn_up_radius2) {
-  const bool table = plan.atmosphere == AtmosphereModel::kDensityTable;
-  constexpr auto kTable = AtmosphereModel::kDensityTable, kFit = AtmosphereModel::kExponentialFit;
-  if (start != nullptr) {
-    table ? composed_range<kTable, true, kKicks>(s, begin, end, plan, start, burn_up_flags, burn_up_radius2)
-          : composed_range<kFit, true, kKicks>(s, begin, end, plan, start, burn_up_flags, burn_up_radius2);
-  } else {
-    table
-        ? composed_range<kTable, false, kKicks>(s, begin, end, plan, nullptr, burn_up_flags, burn_up_radius2)
-        : composed_range<kFit, false, kKicks>(s, begin, end, plan, nullptr, burn_up_flags, burn_up_radius2);
+  constexpr auto kTable = AtmosphereModel::kDensityTable, kFit = AtmosphereModel::kExponentialFit,
+                 kMsis = AtmosphereModel::kNrlmsise00;
+  auto run = [&]<AtmosphereModel kAtmosphere>() {
+    if (start != nullptr)
+      composed_range<kAtmosphere, true, kKicks>(s, begin, end, plan, start, burn_up_flags, burn_up_radius2);
+    else
+      composed_range<kAtmosphere, false, kKicks>(s, begin, end, plan, nullptr, burn_up_flags, burn_up_radius2);
+  };
+  switch (plan.atmosphere) {
+    case AtmosphereModel::kDensityTable:
+      run.template operator()<kTable>();
+      break;
+    case AtmosphereModel::kNrlmsise00:
+      run.template operator()<kMsis>();
+      break;
+    default:
+      run.template operator()<kFit>();
+      break;
   }
 }
 

@@ -7,7 +7,13 @@
 namespace kessler {
 
 ForceModel::ForceModel(const ForceModelSettings& settings, const UtcEpoch& epoch)
-    : settings_(settings), epoch_(epoch), rotation_(epoch) {}
+    : settings_(settings), epoch_(epoch), rotation_(epoch) {
+  if (settings_.atmosphere == AtmosphereModel::kNrlmsise00) {
+    if (!settings_.space_weather && settings_.solar_activity.mode != SolarActivityMode::kConstant)
+      settings_.space_weather = SpaceWeather::bundled();
+    msis_ = std::make_shared<MsisDensityGrid>(epoch_, settings_.solar_activity, settings_.space_weather);
+  }
+}
 
 ForceInstant ForceModel::instant(double t_s) const {
   constexpr double kMu = constants::kEarthMu_m3_s2;
@@ -40,6 +46,13 @@ ForceInstant ForceModel::instant(double t_s) const {
   f.ln_rho = table.ln_rho();
   f.slope_per_m = table.slope_per_m();
   f.cells = table.cells();
+  if (msis_) {
+    f.msis_grid_owner = msis_->grid_at(t_s);
+    f.msis_grid = f.msis_grid_owner.get();
+    const double norm = std::sqrt(unit.x() * unit.x() + unit.y() * unit.y());
+    f.sun_eq_x = unit.x() / norm;
+    f.sun_eq_y = unit.y() / norm;
+  }
   return f;
 }
 
@@ -56,6 +69,10 @@ Eigen::Vector3d ForceModel::acceleration(const ForceInstant& f, const Eigen::Vec
     accelerate<AtmosphereModel::kDensityTable>(f, r.x(), r.y(), r.z(), v.x(), v.y(), v.z(),
                                                object.drag_area_to_mass_m2_kg, object.srp_area_to_mass_m2_kg,
                                                a.x(), a.y(), a.z());
+  else if (settings_.atmosphere == AtmosphereModel::kNrlmsise00)
+    accelerate<AtmosphereModel::kNrlmsise00>(f, r.x(), r.y(), r.z(), v.x(), v.y(), v.z(),
+                                             object.drag_area_to_mass_m2_kg, object.srp_area_to_mass_m2_kg,
+                                             a.x(), a.y(), a.z());
   else
     accelerate<AtmosphereModel::kExponentialFit>(f, r.x(), r.y(), r.z(), v.x(), v.y(), v.z(),
                                                  object.drag_area_to_mass_m2_kg,
@@ -70,6 +87,9 @@ Eigen::Vector3d ForceModel::kick(const ForceInstant& f, const Eigen::Vector3d& r
     kessler::kick<AtmosphereModel::kDensityTable>(f, h_s, r.x(), r.y(), r.z(), out.x(), out.y(), out.z(),
                                                   object.drag_area_to_mass_m2_kg,
                                                   object.srp_area_to_mass_m2_kg);
+  else if (settings_.atmosphere == AtmosphereModel::kNrlmsise00)
+    kessler::kick<AtmosphereModel::kNrlmsise00>(f, h_s, r.x(), r.y(), r.z(), out.x(), out.y(), out.z(),
+                                                object.drag_area_to_mass_m2_kg, object.srp_area_to_mass_m2_kg);
   else
     kessler::kick<AtmosphereModel::kExponentialFit>(f, h_s, r.x(), r.y(), r.z(), out.x(), out.y(), out.z(),
                                                     object.drag_area_to_mass_m2_kg,

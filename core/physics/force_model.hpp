@@ -19,6 +19,7 @@
 #include "core/physics/earth_rotation.hpp"
 #include "core/physics/force_model_settings.hpp"
 #include "core/physics/gravity.hpp"
+#include "core/physics/msis_grid.hpp"
 #include "core/physics/solar_radiation_pressure.hpp"
 #include "core/time/epoch.hpp"
 
@@ -48,12 +49,20 @@ struct ForceInstant {
   const double* ln_rho = nullptr;
   const double* slope_per_m = nullptr;
   int cells = 0;
+  // NRLMSISE-00's grid of this instant's slot (msis_grid.hpp), the Sun's direction in the equatorial
+  // plane, and the grid's owner (keeps it alive while the instant is in use).
+  const float* msis_grid = nullptr;
+  double sun_eq_x = 1.0, sun_eq_y = 0.0;
+  std::shared_ptr<const float[]> msis_grid_owner;
 };
 
 template <AtmosphereModel kAtmosphere>
-[[gnu::always_inline]] inline double atmosphere_density(const ForceInstant& f, double altitude_m) {
+[[gnu::always_inline]] inline double atmosphere_density(const ForceInstant& f, double x, double y, double z,
+                                                        double altitude_m) {
   if constexpr (kAtmosphere == AtmosphereModel::kDensityTable)
     return DensityTable::density_at(f.ln_rho, f.slope_per_m, f.cells, altitude_m);
+  else if constexpr (kAtmosphere == AtmosphereModel::kNrlmsise00)
+    return msis_grid_density(f.msis_grid, f.sun_eq_x, f.sun_eq_y, x, y, z, altitude_m);
   else
     return exponential_fit_density_kg_m3(altitude_m);
 }
@@ -71,7 +80,7 @@ template <AtmosphereModel kAtmosphere>
   gravity::j2_acceleration(f.j2_mu_r2, x, y, z, inv_r, jx, jy, jz);
   gravity::c22_s22_acceleration(f.c22_mu_r2, f.s22_mu_r2, f.cos_theta, f.sin_theta, x, y, z, inv_r, cx, cy,
                                 cz);
-  const double rho = atmosphere_density<kAtmosphere>(f, r - constants::kEarthEquatorialRadius_m);
+  const double rho = atmosphere_density<kAtmosphere>(f, x, y, z, r - constants::kEarthEquatorialRadius_m);
   drag_acceleration(rho, f.drag_scale * drag_area_to_mass, f.drag_rate_limit_per_s, x, y, vx, vy, vz, dx, dy,
                     dz);
   srp_acceleration(f.srp_p_au2, f.sun, srp_area_to_mass, x, y, z, sx, sy, sz);
@@ -98,7 +107,7 @@ template <AtmosphereModel kAtmosphere>
   gravity::c22_s22_acceleration(f.c22_mu_r2, f.s22_mu_r2, f.cos_theta, f.sin_theta, x, y, z, inv_r, cx, cy,
                                 cz);
   srp_acceleration(f.srp_p_au2, f.sun, srp_area_to_mass, x, y, z, sx, sy, sz);
-  const double rho = atmosphere_density<kAtmosphere>(f, r - constants::kEarthEquatorialRadius_m);
+  const double rho = atmosphere_density<kAtmosphere>(f, x, y, z, r - constants::kEarthEquatorialRadius_m);
   const double cda = f.drag_scale * drag_area_to_mass;
   const double half_h = 0.5 * h_s;
   drag_flow(rho, cda, f.drag_rate_limit_per_s, x, y, half_h, vx, vy, vz);
@@ -114,6 +123,8 @@ class ForceModel {
   ForceModel(const ForceModelSettings& settings, const UtcEpoch& epoch);
 
   const ForceModelSettings& settings() const { return settings_; }
+  // NRLMSISE-00's grid (null unless the atmosphere is kNrlmsise00).
+  const std::shared_ptr<MsisDensityGrid>& msis_grid() const { return msis_; }
   const UtcEpoch& epoch() const { return epoch_; }
 
   // The per-instant scalars at t_s seconds since the epoch (a few trig calls and the Sun ephemeris).
@@ -137,6 +148,7 @@ class ForceModel {
   ForceModelSettings settings_;
   UtcEpoch epoch_;
   EarthRotation rotation_;
+  std::shared_ptr<MsisDensityGrid> msis_;  // with kNrlmsise00; shared by copies
 };
 
 }  // namespace kessler

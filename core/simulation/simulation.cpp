@@ -98,6 +98,15 @@ std::string config_key(const SimulationConfig& c) {
   // Only when enabled, so that the keys (and checkpoints) of runs without breakups stay as they were.
   if (c.breakups.enabled) hash_breakup_settings(h, c.breakups);
   if (c.traffic.enabled) hash_traffic_settings(h, c.traffic);
+  // Likewise the solar activity, only with the atmosphere that reads it.
+  if (f.atmosphere == AtmosphereModel::kNrlmsise00) {
+    h.update("nrlmsise00-grid-v1");
+    h.update_u64(static_cast<std::uint64_t>(f.solar_activity.mode));
+    h.update_f64(f.solar_activity.f107_sfu);
+    h.update_f64(f.solar_activity.ap);
+    if (f.solar_activity.mode != SolarActivityMode::kConstant)
+      h.update((f.space_weather ? f.space_weather : SpaceWeather::bundled())->digest());
+  }
   return h.hex_digest();
 }
 

@@ -1,5 +1,7 @@
 // kessler-bench propagate: the symplectic propagator (--integrator, default blanes_moan4) with the full force
-// model (Kepler, J2, C22/S22, drag on the density table, SRP with shadow) on the leo-19647 population,
+// model (Kepler, J2, C22/S22, drag on the density table, the exponential fit or NRLMSISE-00 with observed
+// solar activity (its grid: the day's build happens in the warm-up step, slot grids inside the timing), SRP
+// with shadow) on the leo-19647 population,
 // repeated to reach --objects (each copy's positions scaled by 1 + 1e-6 copy so no two objects coincide), dt
 // = 10 s.
 #include <omp.h>
@@ -38,8 +40,8 @@ int run(int argc, char** argv) {
     std::cerr << "kessler-bench propagate: --integrator is yoshida4 or blanes_moan4\n";
     return 2;
   }
-  if (atmosphere != "table" && atmosphere != "fit") {
-    std::cerr << "kessler-bench propagate: --atmosphere is 'table' or 'fit'\n";
+  if (atmosphere != "table" && atmosphere != "fit" && atmosphere != "nrlmsise00") {
+    std::cerr << "kessler-bench propagate: --atmosphere is 'table', 'fit' or 'nrlmsise00'\n";
     return 2;
   }
   const Population initial = leo19647_repeated(dir, objects);
@@ -50,7 +52,9 @@ int run(int argc, char** argv) {
   forces.c22_s22 = force_list.find("c22") != std::string::npos;
   forces.drag = force_list.find("drag") != std::string::npos;
   forces.srp = force_list.find("srp") != std::string::npos;
-  forces.atmosphere = atmosphere == "fit" ? AtmosphereModel::kExponentialFit : AtmosphereModel::kDensityTable;
+  forces.atmosphere = atmosphere == "fit"          ? AtmosphereModel::kExponentialFit
+                      : atmosphere == "nrlmsise00" ? AtmosphereModel::kNrlmsise00
+                                                   : AtmosphereModel::kDensityTable;
   SymplecticPropagator propagator(forces, leo19647_epoch(), *composition);
   propagator.set_threads(threads);
   std::vector<double> walls, cpus;
@@ -89,7 +93,7 @@ int run(int argc, char** argv) {
 KESSLER_BENCH("propagate",
               "one propagator step, full force model, leo-19647 repeated to --objects N; --steps S --threads "
               "T --integrator yoshida4|blanes_moan4 "
-              "[--repeats R --atmosphere table|fit --forces kepler,j2,c22,drag,srp]",
+              "[--repeats R --atmosphere table|fit|nrlmsise00 --forces kepler,j2,c22,drag,srp]",
               run);
 
 }  // namespace kessler::bench
