@@ -51,6 +51,22 @@ const char* breakup_source_name(BreakupSource source) {
   return source == BreakupSource::kCollision ? "collision" : "scheduled";
 }
 
+const char* lifecycle_kind_name(LifecycleEventKind kind) {
+  switch (kind) {
+    case LifecycleEventKind::kLaunch:
+      return "launch";
+    case LifecycleEventKind::kEndOfLife:
+      return "end_of_life";
+    case LifecycleEventKind::kDisposal:
+      return "disposal";
+    case LifecycleEventKind::kDisposalFailed:
+      return "disposal_failed";
+    case LifecycleEventKind::kDeorbit:
+      return "deorbit";
+  }
+  return "lifecycle";
+}
+
 std::string object_name(ObjectId id, const std::string& name) {
   if (!name.empty() || id < kFirstFragmentId) return name;
   return "FRAGMENT " + std::to_string(id);
@@ -119,6 +135,18 @@ std::string breakup_json(std::uint64_t seq, const BreakupReport& b, const UtcEpo
     << ",\"fragments\":" << b.fragment_count << ",\"fragment_mass_kg\":" << num(b.fragment_mass_kg)
     << ",\"first_id\":" << b.first_id << ",\"last_id\":" << b.last_id << ",\"remnant_id\":" << b.remnant_id
     << "}";
+  return s.str();
+}
+
+std::string lifecycle_json(std::uint64_t seq, const LifecycleReport& l, const UtcEpoch& epoch) {
+  std::ostringstream s;
+  s << "{\"type\":\"" << lifecycle_kind_name(l.kind) << "\",\"seq\":" << seq
+    << ",\"time_s\":" << num(l.time_s) << ",\"time\":\"" << epoch.plus_seconds(l.time_s).to_iso8601(3)
+    << "\",\"first_id\":" << l.first_id << ",\"last_id\":" << l.last_id;
+  if (l.kind == LifecycleEventKind::kLaunch)
+    s << ",\"objects\":" << (l.last_id - l.first_id + 1) << ",\"row\":" << l.row;
+  if (l.kind == LifecycleEventKind::kDisposal) s << ",\"altitude_m\":" << num(l.altitude_m);
+  s << "}";
   return s.str();
 }
 
@@ -204,6 +232,24 @@ std::string breakup_row(std::uint64_t seq, const BreakupReport& b, const UtcEpoc
                 static_cast<unsigned long long>(b.fragment_count),
                 static_cast<unsigned long long>(b.first_id), static_cast<unsigned long long>(b.last_id),
                 b.fragment_mass_kg, b.catastrophic ? "  catastrophic" : "");
+  return buf;
+}
+
+std::string lifecycle_row(std::uint64_t seq, const LifecycleReport& l, const UtcEpoch& epoch) {
+  const std::string when = epoch.plus_seconds(l.time_s).to_iso8601(3);
+  const auto first = static_cast<unsigned long long>(l.first_id),
+             last = static_cast<unsigned long long>(l.last_id);
+  char buf[256];
+  if (l.kind == LifecycleEventKind::kLaunch)
+    std::snprintf(buf, sizeof buf, "%8llu  %-11s  %llu objects %llu-%llu  %s  plan row %llu",
+                  static_cast<unsigned long long>(seq), "launch", last - first + 1, first, last, when.c_str(),
+                  static_cast<unsigned long long>(l.row));
+  else if (l.kind == LifecycleEventKind::kDisposal)
+    std::snprintf(buf, sizeof buf, "%8llu  %-11s  %8llu  %s  %12.3f km", static_cast<unsigned long long>(seq),
+                  "disposal", first, when.c_str(), l.altitude_m / 1e3);
+  else
+    std::snprintf(buf, sizeof buf, "%8llu  %-11s  %8llu  %s", static_cast<unsigned long long>(seq),
+                  lifecycle_kind_name(l.kind), first, when.c_str());
   return buf;
 }
 

@@ -27,6 +27,10 @@ std::string progress_json(std::uint64_t seq, const Progress& p);
 //  "fragment_mass_kg":..,"first_id":..,"last_id":..,"remnant_id":..} (the fragments themselves: kessler
 // fragments).
 std::string breakup_json(std::uint64_t seq, const BreakupReport& b, const UtcEpoch& epoch);
+// {"type":"launch","seq":..,"time_s":..,"time":..,"first_id":..,"last_id":..,"objects":..,"row":..} and
+// the same keys (the object as first_id = last_id) for "end_of_life", "disposal" (with altitude_m),
+// "disposal_failed" and "deorbit".
+std::string lifecycle_json(std::uint64_t seq, const LifecycleReport& l, const UtcEpoch& epoch);
 std::string checkpoint_json(std::uint64_t last_seq, std::int64_t step, const std::string& where);
 // {"type":"summary","events":..,"collisions":..,"objects_final":..,"events_digest":..,"state_digest":..,...}
 std::string summary_json(const RunSummary& s);
@@ -37,6 +41,7 @@ std::string encounter_row(std::uint64_t seq, const Encounter& e, const UtcEpoch&
 std::string burn_up_row(std::uint64_t seq, const BurnUp& b, const UtcEpoch& epoch);
 std::string progress_row(const Progress& p);
 std::string breakup_row(std::uint64_t seq, const BreakupReport& b, const UtcEpoch& epoch);
+std::string lifecycle_row(std::uint64_t seq, const LifecycleReport& l, const UtcEpoch& epoch);
 std::string summary_table(const RunSummary& s);
 
 // The ingest report, before a run's events: {"type":"ingest","records":N,"kept":N,"dropped":{"<reason>":N}}
@@ -47,6 +52,8 @@ std::string ingest_table(const IngestOutcome& ingest);
 const char* encounter_kind_name(EncounterKind kind);
 const char* breakup_kind_name(BreakupKind kind);        // "collision", "explosion"
 const char* breakup_source_name(BreakupSource source);  // "scheduled", "collision"
+// "launch", "end_of_life", "disposal", "disposal_failed", "deorbit"
+const char* lifecycle_kind_name(LifecycleEventKind kind);
 // An object's name for listings: its name, else "FRAGMENT <id>" for a breakup's fragment, else empty.
 std::string object_name(ObjectId id, const std::string& name);
 std::string json_escape(const std::string& text);

@@ -59,6 +59,14 @@ void EventRelay::on_breakup(std::uint64_t seq, const BreakupReport& breakup) {
   push(std::move(item));
 }
 
+void EventRelay::on_lifecycle(std::uint64_t seq, const LifecycleReport& event) {
+  Item item;
+  item.kind = Item::Kind::kLifecycle;
+  item.seq = seq;
+  item.lifecycle = event;
+  push(std::move(item));
+}
+
 void EventRelay::on_checkpoint(std::uint64_t last_seq, std::int64_t step, const std::string& bytes) {
   const auto now = std::chrono::steady_clock::now();
   const bool stops_after = control_ && control_->stop_after_checkpoint.load();
@@ -183,6 +191,9 @@ void EventRelay::hand_over(std::vector<Item>& items) {
         hub_.publish(EventPtr(event));
         continue;
       }
+      case Item::Kind::kLifecycle:
+        *event->mutable_lifecycle() = to_proto(item.lifecycle);
+        break;
       case Item::Kind::kCheckpoint:
         break;
     }

@@ -49,6 +49,7 @@ class EventRelay final : public EventSink {
   void on_burn_up(std::uint64_t seq, const BurnUp& burn_up) override;
   void on_progress(std::uint64_t seq, const Progress& progress) override;
   void on_breakup(std::uint64_t seq, const BreakupReport& breakup) override;
+  void on_lifecycle(std::uint64_t seq, const LifecycleReport& event) override;
   void on_checkpoint(std::uint64_t last_seq, std::int64_t step, const std::string& bytes) override;
   void on_finished(const RunSummary&) override {}
   void on_failed(const std::string& reason) override;
@@ -64,13 +65,14 @@ class EventRelay final : public EventSink {
  private:
   // One item as the simulation handed it over (the core's own types: no wire work on its thread).
   struct Item {
-    enum class Kind : std::uint8_t { kEncounter, kBurnUp, kProgress, kBreakup, kCheckpoint };
+    enum class Kind : std::uint8_t { kEncounter, kBurnUp, kProgress, kBreakup, kLifecycle, kCheckpoint };
     Kind kind = Kind::kEncounter;
     std::uint64_t seq = 0;  // last_seq for a checkpoint
     Encounter encounter;
     BurnUp burn_up;
     Progress progress;
     std::shared_ptr<const BreakupReport> breakup;  // with its fragments
+    LifecycleReport lifecycle;
     std::int64_t step = 0;
     std::shared_ptr<const std::string> checkpoint;
   };

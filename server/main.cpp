@@ -30,6 +30,8 @@ options:
   --queue-limit N       queued runs accepted before SubmitRun answers RESOURCE_EXHAUSTED (default 1000)
   --max-message-mb N    largest request accepted, e.g. a scenario with an inline catalog (default 64)
   --datasets DIR        bundled datasets (default: the build's deploy/datasets)
+  --traffic-plans DIR   shipped launch plans, a scenario's traffic.plans (default: the build's
+                        deploy/traffic)
   --checkpoint-write-ms N
                         write a run's checkpoints to the database at most every N ms; a newer one
                         replaces one still waiting (default 1000; 0: every checkpoint as it comes)
@@ -85,6 +87,8 @@ int main(int argc, char** argv) {
       max_message_mb = n;
     } else if (arg == "--datasets") {
       options.datasets_dir = value;
+    } else if (arg == "--traffic-plans") {
+      options.traffic_dir = value;
     } else if (arg == "--checkpoint-write-ms") {
       if (!parse_int(value, 0, 86400000, n))
         return usage_error("--checkpoint-write-ms needs an integer 0..86400000");

@@ -165,6 +165,24 @@ v1::Breakup to_proto(const BreakupReport& b) {
   return out;
 }
 
+// The core's kinds and the wire's have the same numbers.
+static_assert(static_cast<int>(LifecycleEventKind::kLaunch) == v1::LIFECYCLE_KIND_LAUNCH);
+static_assert(static_cast<int>(LifecycleEventKind::kEndOfLife) == v1::LIFECYCLE_KIND_END_OF_LIFE);
+static_assert(static_cast<int>(LifecycleEventKind::kDisposal) == v1::LIFECYCLE_KIND_DISPOSAL);
+static_assert(static_cast<int>(LifecycleEventKind::kDisposalFailed) == v1::LIFECYCLE_KIND_DISPOSAL_FAILED);
+static_assert(static_cast<int>(LifecycleEventKind::kDeorbit) == v1::LIFECYCLE_KIND_DEORBIT);
+
+v1::Lifecycle to_proto(const LifecycleReport& e) {
+  v1::Lifecycle out;
+  out.set_kind(static_cast<v1::LifecycleKind>(static_cast<int>(e.kind)));
+  out.set_time_s(e.time_s);
+  out.set_first_id(e.first_id);
+  out.set_last_id(e.last_id);
+  out.set_row(e.row);
+  out.set_altitude_m(e.altitude_m);
+  return out;
+}
+
 std::vector<StoredFragment> fragments_of(const BreakupReport& b) {
   std::vector<StoredFragment> out;
   out.reserve(b.fragments.size());
@@ -251,6 +269,7 @@ v1::Run RunManager::submit(const v1::SubmitRunRequest& request) {
     BuildOptions build;
     build.threads = 1;
     if (!options_.datasets_dir.empty()) build.datasets_dir = options_.datasets_dir;
+    if (!options_.traffic_dir.empty()) build.traffic_dir = options_.traffic_dir;
     FieldError error;
     if (!build_simulation(scenario, build, &error, &ingest))
       throw ServiceError(Code::kInvalidArgument, error.message(), error.path);
@@ -411,6 +430,7 @@ void RunManager::execute(std::int64_t run_id, RunControl& control) {
   BuildOptions build;
   build.threads = run->threads();
   if (!options_.datasets_dir.empty()) build.datasets_dir = options_.datasets_dir;
+  if (!options_.traffic_dir.empty()) build.traffic_dir = options_.traffic_dir;
   build.adjust_config = options_.adjust_config;
   FieldError error;
   std::unique_ptr<Simulation> simulation;

@@ -44,6 +44,7 @@ struct ManagerOptions {
   int threads_per_run = 0;  // 0: OpenMP's default
   std::size_t queue_limit = 1000;
   std::string datasets_dir;  // empty: the build's bundled datasets
+  std::string traffic_dir;   // shipped launch plans; empty: the build's deploy/traffic
   std::size_t hub_capacity = 65536;
   // The store writes a run's checkpoints at most this often (a newer one replaces a waiting one);
   // a crash then costs at most this much more recomputation. SIGTERM and run ends write at once.
@@ -68,6 +69,7 @@ void tune_allocator_for_runs();
 v1::RunSummary to_proto(const RunSummary& summary);
 v1::Encounter to_proto(const Encounter& encounter);
 v1::Progress to_proto(const Progress& progress);
+v1::Lifecycle to_proto(const LifecycleReport& event);
 // The breakup without its fragments (the event), and its fragments as the store keeps them.
 v1::Breakup to_proto(const BreakupReport& breakup);
 std::vector<StoredFragment> fragments_of(const BreakupReport& breakup);

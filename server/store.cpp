@@ -96,6 +96,20 @@ const char* const kMigrations[] = {
     ) WITHOUT ROWID;
     CREATE INDEX fragments_by_breakup ON fragments(run_id, breakup_id, fragment_id);
     )sql",
+    // Lifecycle events of runs with traffic (their events are kind 5): launches, ends of life, disposals.
+    R"sql(
+    CREATE TABLE lifecycle_events (
+      run_id INTEGER NOT NULL,
+      seq INTEGER NOT NULL,
+      kind INTEGER NOT NULL,
+      time_s REAL NOT NULL,
+      first_id INTEGER NOT NULL,
+      last_id INTEGER NOT NULL,
+      plan_row INTEGER NOT NULL,
+      altitude_m REAL NOT NULL,
+      PRIMARY KEY (run_id, seq)
+    ) WITHOUT ROWID;
+    )sql",
 };
 constexpr int kMigrationCount = sizeof(kMigrations) / sizeof(kMigrations[0]);
 static_assert(kMigrationCount == Store::kSchemaVersion);

@@ -1,4 +1,5 @@
-// The store's breakups: the writer's rows of a breakup and its fragments, and the fragment listing.
+// The store's breakups and lifecycle events: the writer's rows of a breakup and its fragments, and of a
+// lifecycle event; the fragment listing.
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -33,6 +34,46 @@ void write_breakup_rows(Statement& breakup_insert, Statement& fragment_insert, c
     fragment_insert.bind(5, f.characteristic_length_m).bind(6, f.area_to_mass_m2_kg).bind(7, f.mass_kg);
     fragment_insert.bind(8, f.delta_v_m_s);
     fragment_insert.run();
+  }
+}
+
+const char* const kLifecycleInsertSql =
+    "INSERT OR IGNORE INTO lifecycle_events(run_id, seq, kind, time_s, first_id, last_id, plan_row, "
+    "altitude_m) VALUES(?, ?, ?, ?, ?, ?, ?, ?)";
+
+void write_lifecycle_row(Statement& lifecycle_insert, const v1::RunEvent& event) {
+  const v1::Lifecycle& l = event.lifecycle();
+  lifecycle_insert.bind(1, event.run_id()).bind(2, event.seq()).bind(3, static_cast<int>(l.kind()));
+  lifecycle_insert.bind(4, l.time_s()).bind(5, l.first_id()).bind(6, l.last_id()).bind(7, l.row());
+  lifecycle_insert.bind(8, l.altitude_m());
+  lifecycle_insert.run();
+}
+
+void count_lifecycle_events(sqlite3* db, std::int64_t run_id, v1::RunStats& stats) {
+  Statement s(db,
+              "SELECT kind, COUNT(*), COALESCE(SUM(last_id - first_id + 1), 0) FROM lifecycle_events "
+              "WHERE run_id = ? GROUP BY 1");
+  s.bind(1, run_id);
+  while (s.step()) {
+    const auto n = static_cast<std::uint64_t>(s.i64(1));
+    switch (s.i64(0)) {
+      case v1::LIFECYCLE_KIND_LAUNCH:
+        stats.set_launches(n);
+        stats.set_launched_objects(static_cast<std::uint64_t>(s.i64(2)));
+        break;
+      case v1::LIFECYCLE_KIND_END_OF_LIFE:
+        stats.set_ends_of_life(n);
+        break;
+      case v1::LIFECYCLE_KIND_DISPOSAL:
+        stats.set_disposals(n);
+        break;
+      case v1::LIFECYCLE_KIND_DISPOSAL_FAILED:
+        stats.set_disposals_failed(n);
+        break;
+      case v1::LIFECYCLE_KIND_DEORBIT:
+        stats.set_deorbits(n);
+        break;
+    }
   }
 }
 

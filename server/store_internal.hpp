@@ -12,7 +12,13 @@
 
 namespace kessler::server::detail {
 
-enum EventKind : int { kKindProgress = 1, kKindEncounter = 2, kKindBurnUp = 3, kKindBreakup = 4 };
+enum EventKind : int {
+  kKindProgress = 1,
+  kKindEncounter = 2,
+  kKindBurnUp = 3,
+  kKindBreakup = 4,
+  kKindLifecycle = 5,
+};
 
 inline void check(int rc, sqlite3* db, const char* what) {
   if (rc != SQLITE_OK && rc != SQLITE_DONE && rc != SQLITE_ROW)
@@ -88,6 +94,12 @@ extern const char* const kBreakupInsertSql;
 extern const char* const kFragmentInsertSql;
 void write_breakup_rows(Statement& breakup_insert, Statement& fragment_insert, const v1::RunEvent& event,
                         const std::vector<StoredFragment>& fragments);
+
+// A lifecycle event's row (store_breakups.cpp), in the writer's transaction.
+extern const char* const kLifecycleInsertSql;
+void write_lifecycle_row(Statement& lifecycle_insert, const v1::RunEvent& event);
+// The run's lifecycle events counted by kind into the statistics (launches, objects launched, ...).
+void count_lifecycle_events(sqlite3* db, std::int64_t run_id, v1::RunStats& stats);
 
 inline sqlite3* open_connection(const std::string& path) {
   sqlite3* db = nullptr;

@@ -169,6 +169,7 @@ v1::RunStats Store::run_stats(const v1::GetRunStatsRequest& request, double run_
       stats.set_breakups(static_cast<std::uint64_t>(breakups.i64(0)));
       stats.set_fragments(static_cast<std::uint64_t>(breakups.i64(1)));
     }
+    count_lifecycle_events(lease.db(), request.run_id(), stats);
   }
   for (double kappa : kappas) {
     v1::KappaSeries* series = stats.add_by_kappa();

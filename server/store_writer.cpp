@@ -117,11 +117,13 @@ struct Store::WriterStatements {
                           "step = excluded.step, bytes = excluded.bytes WHERE excluded.step >= "
                           "checkpoints.step"),
         breakup_insert(db, kBreakupInsertSql),
-        fragment_insert(db, kFragmentInsertSql) {}
+        fragment_insert(db, kFragmentInsertSql),
+        lifecycle_insert(db, kLifecycleInsertSql) {}
   Statement event_insert;
   Statement checkpoint_upsert;
   Statement breakup_insert;
   Statement fragment_insert;
+  Statement lifecycle_insert;
 };
 
 void Store::writer_loop() {
@@ -228,6 +230,7 @@ void Store::write_batch(std::vector<Pending>& batch, WriterStatements& statement
     int kind = e.has_progress()    ? kKindProgress
                : e.has_encounter() ? kKindEncounter
                : e.has_breakup()   ? kKindBreakup
+               : e.has_lifecycle() ? kKindLifecycle
                                    : kKindBurnUp;
     payload.clear();
     e.SerializeToString(&payload);
@@ -240,10 +243,11 @@ void Store::write_batch(std::vector<Pending>& batch, WriterStatements& statement
       event_insert.bind_null(5).bind_null(6).bind_null(7).bind_null(8).bind_null(9).bind_null(10);
     }
     event_insert.run();
-    // A re-emitted event (a resumed run) is already stored, with its breakup's rows.
+    // A re-emitted event (a resumed run) is already stored, with its breakup's or lifecycle's rows.
     if (e.has_breakup() && sqlite3_changes(db) > 0)
       write_breakup_rows(statements.breakup_insert, statements.fragment_insert, e,
                          p.fragments ? *p.fragments : std::vector<StoredFragment>{});
+    if (e.has_lifecycle() && sqlite3_changes(db) > 0) write_lifecycle_row(statements.lifecycle_insert, e);
     ++written;
   }
   exec(db, "COMMIT");

@@ -22,8 +22,8 @@ const char* const kWatchOutputHelp =
 void add_watch_options(CLI::App& command, WatchOptions& options) {
   command
       .add_option("--events", options.events,
-                  "events printed as they come: all, notable (collisions, burn-ups, breakups, conjunctions "
-                  "with kappa <= 1; the default) or none (the default with json)")
+                  "events printed as they come: all, notable (collisions, burn-ups, breakups, launches, "
+                  "conjunctions with kappa <= 1; the default) or none (the default with json)")
       ->option_text("MODE")
       ->check(CLI::IsMember({"all", "notable", "none"}));
   command
@@ -66,7 +66,7 @@ class ProgressView {
     if (tty_ && drawn_) std::cerr << "\n";
     drawn_ = false;
   }
-  std::uint64_t conjunctions = 0, collisions = 0, evasions = 0, burn_ups = 0, breakups = 0;
+  std::uint64_t conjunctions = 0, collisions = 0, evasions = 0, burn_ups = 0, breakups = 0, launched = 0;
 
  private:
   std::string line() const {
@@ -85,6 +85,7 @@ class ProgressView {
       << rate << " real time  left " << format_duration(p.eta_s()) << "  objects " << p.objects_alive()
       << "  conj " << conjunctions << " coll " << collisions << " evas " << evasions << " burn " << burn_ups;
     if (breakups > 0) s << " brk " << breakups;
+    if (launched > 0) s << " launched " << launched;
     return s.str();
   }
   void draw() {
@@ -110,8 +111,28 @@ UtcEpoch epoch_of(const std::string& start_epoch) {
   return epoch ? *epoch : UtcEpoch::from_calendar(2022, 1, 1, 0, 0, 0.0);
 }
 
+// "#12  launch  2022-01-01 00:30:00  60 objects (2000000000-2000000059), plan row 0", or an object's
+// end of life, disposal (with its altitude), failed disposal or de-orbit.
+std::string lifecycle_text(const v1::RunEvent& e, const std::string& start_epoch) {
+  const LifecycleReport l = lifecycle_report_of(e.lifecycle());
+  const std::string first = std::to_string(l.first_id), last = std::to_string(l.last_id);
+  std::string what = first;
+  char buf[256];
+  if (l.kind == LifecycleEventKind::kLaunch)
+    what = std::to_string(l.last_id - l.first_id + 1) + " objects (" + first + "-" + last + "), plan row " +
+           std::to_string(l.row);
+  if (l.kind == LifecycleEventKind::kDisposal) {
+    std::snprintf(buf, sizeof buf, "  altitude %.1f km", l.altitude_m / 1e3);
+    what += buf;
+  }
+  std::snprintf(buf, sizeof buf, "#%-8llu %-11s %s  %s", static_cast<unsigned long long>(e.seq()),
+                lifecycle_kind_name(l.kind), format_sim_time(start_epoch, l.time_s).c_str(), what.c_str());
+  return buf;
+}
+
 std::string event_text(const v1::RunEvent& e, const std::string& start_epoch) {
   char buf[384];
+  if (e.has_lifecycle()) return lifecycle_text(e, start_epoch);
   if (e.has_breakup()) {
     const BreakupReport b = breakup_report_of(e.breakup());
     std::string parents;
@@ -254,7 +275,9 @@ class Follower {
       if (events_ == EventsMode::kAll)
         std::cout << (e.has_breakup()
                           ? breakup_json(e.seq(), breakup_report_of(e.breakup()), epoch_of(start_epoch_))
-                          : to_json(e))
+                      : e.has_lifecycle() ? lifecycle_json(e.seq(), lifecycle_report_of(e.lifecycle()),
+                                                           epoch_of(start_epoch_))
+                                          : to_json(e))
                   << "\n";
       return;
     }
@@ -269,6 +292,12 @@ class Follower {
 
   // Counts the event in the progress line; true when it is notable.
   bool count(const v1::RunEvent& e) {
+    if (e.has_lifecycle()) {
+      // Launches are notable; ends of life and disposals (one per launched payload) only with "all".
+      if (e.lifecycle().kind() != v1::LIFECYCLE_KIND_LAUNCH) return false;
+      view_->launched += e.lifecycle().last_id() - e.lifecycle().first_id() + 1;
+      return true;
+    }
     if (e.has_breakup()) {
       ++view_->breakups;
       return true;

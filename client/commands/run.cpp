@@ -90,6 +90,9 @@ class PrintingSink final : public EventSink {
   void on_breakup(std::uint64_t seq, const BreakupReport& b) override {
     print(std::cout, json_ ? breakup_json(seq, b, epoch_) : breakup_row(seq, b, epoch_));
   }
+  void on_lifecycle(std::uint64_t seq, const LifecycleReport& l) override {
+    print(std::cout, json_ ? lifecycle_json(seq, l, epoch_) : lifecycle_row(seq, l, epoch_));
+  }
   void on_progress(std::uint64_t seq, const Progress& p) override {
     if (json_) {
       std::cout << progress_json(seq, p) << '\n';
@@ -274,6 +277,10 @@ CommandRun setup_run(CLI::App& command, GlobalOptions& global) {
   command.add_option("--resume", o->resume_path, "continue the scenario's run from a checkpoint it wrote")
       ->option_text("CHECKPOINT");
   command.add_option("--datasets", o->build.datasets_dir, "where the bundled datasets live")
+      ->option_text("DIR");
+  command
+      .add_option("--traffic-plans", o->build.traffic_dir,
+                  "where the shipped launch plans live (a scenario's traffic.plans)")
       ->option_text("DIR");
   add_global_options(
       command, global,

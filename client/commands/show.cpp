@@ -1,5 +1,6 @@
 // kessler show RUN: a run's scenario, ingest report, state, times, phase timers, conjunction counts by
-// kappa over time, objects alive by type over time and its summary.
+// kappa over time, the traffic's launches, ends of life and disposals, objects alive by type over time
+// and its summary.
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
@@ -78,7 +79,13 @@ void print_kappa_bins(const v1::Run& run, const v1::RunStats& stats) {
   std::cout << render_table(header, rows);
   std::cout << "  total: " << stats.conjunctions() << " conjunctions, " << stats.collisions()
             << " collisions, " << stats.evasions() << " evasions, " << stats.burn_ups() << " burn-ups, "
-            << stats.breakups() << " breakups (" << stats.fragments() << " fragments)\n\n";
+            << stats.breakups() << " breakups (" << stats.fragments() << " fragments)\n";
+  if (stats.launches() + stats.ends_of_life() > 0)
+    std::cout << "  traffic: " << stats.launched_objects() << " objects launched (" << stats.launches()
+              << " launches), " << stats.ends_of_life() << " ends of life, " << stats.disposals()
+              << " disposals, " << stats.disposals_failed() << " failed disposals, " << stats.deorbits()
+              << " de-orbits\n";
+  std::cout << "\n";
 }
 
 // Objects alive by type over the run: at most 13 of the progress samples, evenly spaced, the last
@@ -156,7 +163,7 @@ CommandRun setup_show(CLI::App& command, GlobalOptions& global) {
                      "object (the same keys as 'run --local') last");
   command.footer(
       "Shows a run: its scenario, the ingest report of its catalog, state, times, phase timers, conjunction "
-      "counts by kappa over time and its summary."
+      "counts by kappa over time, launches, ends of life and disposals (runs with traffic) and its summary."
       "\n\n"
       "example:\n  kessler show 1 --kappas 0.5,1,10");
   return [o, &global] { return show(*o, global); };

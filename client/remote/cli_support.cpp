@@ -159,6 +159,21 @@ BreakupReport breakup_report_of(const v1::Breakup& b) {
   return out;
 }
 
+LifecycleReport lifecycle_report_of(const v1::Lifecycle& l) {
+  LifecycleReport out;
+  // The wire's kinds have the core's numbers (server/run_manager.cpp); an unknown one reads as a launch.
+  const int kind = static_cast<int>(l.kind());
+  out.kind = kind >= 0 && kind <= static_cast<int>(LifecycleEventKind::kDeorbit)
+                 ? static_cast<LifecycleEventKind>(kind)
+                 : LifecycleEventKind::kLaunch;
+  out.time_s = l.time_s();
+  out.first_id = l.first_id();
+  out.last_id = l.last_id();
+  out.row = l.row();
+  out.altitude_m = l.altitude_m();
+  return out;
+}
+
 IngestOutcome ingest_outcome_of(const v1::IngestReport& report) {
   IngestOutcome out;
   out.records = report.records();

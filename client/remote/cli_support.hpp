@@ -48,6 +48,8 @@ std::string summary_text(const v1::Run& run);
 IngestOutcome ingest_outcome_of(const v1::IngestReport& report);
 // A breakup event in the core's terms (no fragment list), for render.hpp's breakup lines.
 BreakupReport breakup_report_of(const v1::Breakup& breakup);
+// A lifecycle event in the core's terms, for render.hpp's lifecycle lines.
+LifecycleReport lifecycle_report_of(const v1::Lifecycle& event);
 // A run's progress as "12.5%", or "-" before it knows its steps.
 std::string progress_percent(const v1::Progress& p);
 

@@ -14,6 +14,7 @@
 #include "core/integration/symplectic_propagator.hpp"
 #include "core/scenario/breakup_validation.hpp"
 #include "core/scenario/scenario_defaults.hpp"
+#include "core/scenario/traffic_validation.hpp"
 #include "core/sgp4/sgp4_propagator.hpp"
 
 namespace kessler {
@@ -171,14 +172,20 @@ std::optional<FieldError> make_parts(const v1::Scenario& scenario, const Simulat
   return std::nullopt;
 }
 
-SimulationConfig config_of(const v1::Scenario& scenario, const BuildOptions& options) {
-  SimulationConfig config = to_simulation_config(scenario, options.threads);
+// The core's configuration with the traffic's launches (read from their files); errors: unreadable
+// sources of launches.
+std::optional<FieldError> config_of(const v1::Scenario& scenario, const BuildOptions& options,
+                                    SimulationConfig& config) {
+  config = to_simulation_config(scenario, options.threads);
+  if (auto e = traffic_launches_of(scenario, config, {options.traffic_dir, options.datasets_dir},
+                                   config.traffic.launches))
+    return e;
   if (!options.checkpoints) {
     config.checkpoint_every_steps = 0;
     config.checkpoint_every_wall_s = 0.0;
   }
   if (options.adjust_config) options.adjust_config(config);
-  return config;
+  return std::nullopt;
 }
 
 // Loader exceptions (missing files, unsound objects) become errors of the population.
@@ -202,7 +209,8 @@ std::unique_ptr<Simulation> build_simulation(const v1::Scenario& scenario, const
     return nullptr;
   };
   if (auto e = validate_scenario(scenario)) return fail(*e);
-  const SimulationConfig config = config_of(scenario, options);
+  SimulationConfig config;
+  if (auto e = config_of(scenario, options, config)) return fail(*e);
   LoadedPopulation loaded;
   auto load_error = load_guarded(scenario, config, options, loaded);
   if (ingest) *ingest = loaded.report;
@@ -233,7 +241,8 @@ std::unique_ptr<Simulation> resume_simulation(const v1::Scenario& scenario, cons
     return nullptr;
   };
   if (auto e = validate_scenario(scenario)) return fail(*e);
-  const SimulationConfig config = config_of(scenario, options);
+  SimulationConfig config;
+  if (auto e = config_of(scenario, options, config)) return fail(*e);
   // The checkpoint holds the population; SGP4 alone needs the element sets again.
   LoadedPopulation loaded;
   if (scenario.propagator() == v1::PROPAGATOR_SGP4)

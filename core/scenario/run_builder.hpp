@@ -35,12 +35,16 @@ std::optional<FieldError> load_scenario_file(const std::string& path, v1::Scenar
 std::optional<FieldError> validate_scenario(const v1::Scenario& scenario);
 
 // The core's configuration of a valid scenario, unset fields at the paper's defaults
-// (core/scenario/scenario_defaults.hpp).
+// (core/scenario/scenario_defaults.hpp). traffic.launches stays empty: the launches' sources are files
+// (shipped plans, the bundled catalog), which build_simulation and resume_simulation read
+// (traffic_validation.hpp, traffic_launches_of).
 SimulationConfig to_simulation_config(const v1::Scenario& scenario, int threads = 0);
 
 struct BuildOptions {
   int threads = 0;  // 0: OpenMP's default
   std::string datasets_dir = KESSLER_DATASETS_DIR;
+  // Where the shipped launch plans (traffic.plans) live: <traffic_dir>/<name>.csv.
+  std::string traffic_dir = KESSLER_TRAFFIC_DIR;
   // False: no checkpoints are taken (a host with nowhere to keep them saves the time).
   bool checkpoints = true;
   // Applied to the core configuration after the scenario's, for fresh and resumed runs alike (hosts

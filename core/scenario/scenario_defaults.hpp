@@ -32,6 +32,12 @@ inline constexpr double kBreakupMaxCharacteristicLengthM = 1.0;  // the model's 
 inline constexpr double kBreakupExplosionScale = 1.0;
 inline constexpr unsigned long long kBreakupMaxFragmentsPerEvent = 1'000'000;
 
+// Traffic (off by default; the core's DisposalSettings holds the same values).
+inline constexpr double kTrafficWindowYears = 8.0;  // business as usual: the IADC's 8-year window
+inline constexpr double kDisposalSuccessProbability = 0.9;
+inline constexpr double kDisposalTargetLifetimeYears = 25.0;
+inline constexpr unsigned long long kTrafficMaxPlannedObjects = 10'000'000;  // in the inline plan
+
 inline constexpr std::array<std::string_view, 2> kDatasets = {"catalog-2022", "leo-19647"};
 inline constexpr std::array<std::string_view, 4> kObjectTypes = {"PAYLOAD", "ROCKET BODY", "DEBRIS",
                                                                  "UNKNOWN"};

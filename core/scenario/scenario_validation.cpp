@@ -8,6 +8,7 @@
 #include "core/scenario/breakup_validation.hpp"
 #include "core/scenario/run_builder.hpp"
 #include "core/scenario/scenario_defaults.hpp"
+#include "core/scenario/traffic_validation.hpp"
 
 namespace kessler {
 namespace {
@@ -186,6 +187,7 @@ std::optional<FieldError> validate_scenario(const v1::Scenario& s) {
   steps.duration_s = duration;
   steps.dt_s = dt;
   if (auto e = validate_breakups(s, start_of(s), static_cast<double>(total_steps_of(steps)) * dt)) return e;
+  if (auto e = validate_traffic(s)) return e;
   return validate_population(s);
 }
 
@@ -226,6 +228,7 @@ SimulationConfig to_simulation_config(const v1::Scenario& s, int threads) {
   c.seed = s.has_seed() ? s.seed() : d::kSeed;
   c.threads = threads;
   c.breakups = breakup_settings_of(s.breakups(), c.start_epoch);
+  c.traffic = traffic_settings_of(s.traffic());  // the launches: run_builder (traffic_launches_of)
   return c;
 }
 

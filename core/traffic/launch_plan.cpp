@@ -139,8 +139,13 @@ LaunchPlan parse_launch_plan_csv(std::string_view text) {
   const CsvTable table = parse_csv(text);
   for (std::size_t c = 0; c < table.header.size(); ++c)
     if (std::none_of(std::begin(kColumns), std::end(kColumns),
-                     [&](const char* k) { return table.header[c] == k; }))
-      throw LaunchPlanError(1, table.header[c], "unknown column");
+                     [&](const char* k) { return table.header[c] == k; })) {
+      // Headers are read upper-cased; messages name columns in lower case, as the rows' do.
+      std::string name = table.header[c];
+      std::transform(name.begin(), name.end(), name.begin(),
+                     [](unsigned char ch) { return std::tolower(ch); });
+      throw LaunchPlanError(1, name, "unknown column");
+    }
   LaunchPlan plan;
   for (const CsvRow& row : table.rows) plan.rows.push_back(read_row(table, row));
   return plan;

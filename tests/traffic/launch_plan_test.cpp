@@ -117,8 +117,8 @@ void expect_refused(const std::string& csv, std::size_t line, const std::string&
 
 TEST(LaunchPlan, BadPlansAreRefusedWithTheLineAndColumn) {
   const std::string head = "epoch,count,altitude_km,inclination_deg\n";
-  expect_refused("epoch,count,altitude_km,inclination_deg,colour\n2022-01-01T00:00:00Z,1,500,10,red\n", 1,
-                 "COLOUR");
+  expect_refused("epoch,count,altitude_km,inclination_deg,Colour\n2022-01-01T00:00:00Z,1,500,10,red\n", 1,
+                 "colour");
   expect_refused(head + "2022-01-01T00:00:00Z,-2,500,10\n", 2, "count");
   expect_refused(head + "2022-01-01T00:00:00Z,0,500,10\n", 2, "count");
   expect_refused(head + "2022-01-01T00:00:00Z,1,500,10\nyesterday,1,500,10\n", 3, "epoch");
