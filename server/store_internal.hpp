@@ -89,6 +89,13 @@ extern const char* const kFragmentInsertSql;
 void write_breakup_rows(Statement& breakup_insert, Statement& fragment_insert, const v1::RunEvent& event,
                         const std::vector<StoredFragment>& fragments);
 
+// Runs (store_runs.cpp): a new queued run's row, and the columns a Run is read from (run_row takes a
+// statement that selected kRunColumnsSql first).
+std::int64_t insert_run(sqlite3* db, const v1::Scenario& scenario, int threads, double created_unix_s,
+                        std::int64_t ensemble_id, std::uint64_t member_index);
+extern const char* const kRunColumnsSql;
+v1::Run run_row(const Statement& s);
+
 inline sqlite3* open_connection(const std::string& path) {
   sqlite3* db = nullptr;
   int rc = sqlite3_open_v2(path.c_str(), &db,
