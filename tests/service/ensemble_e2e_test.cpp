@@ -334,6 +334,9 @@ TEST_F(EnsembleEndToEnd, CliShowsTheEnsemble) {
   auto list = cli(dir, "ensemble list --output json" + server);
   EXPECT_EQ(list.exit_code, 0);
   EXPECT_NE(list.out.find("\"ensemble_id\": " + id), std::string::npos) << list.out;
+  auto member = cli(dir, "show " + std::to_string(shared_->ensemble.member(1).run_id()) + server);
+  EXPECT_EQ(member.exit_code, 0) << member.err;
+  EXPECT_NE(member.out.find("ensemble  " + id + ", member 1 (seed 41)"), std::string::npos) << member.out;
   auto missing = cli(dir, "ensemble show 999" + server);
   EXPECT_EQ(missing.exit_code, 1);
   EXPECT_NE(missing.err.find("NOT_FOUND"), std::string::npos) << missing.err;
@@ -391,6 +394,7 @@ TEST(EnsembleSeries, CommonTimesAndCumulativeMeans) {
   b.alive = {sample(0, 12), sample(10, 11)};  // ended early: the series stops at 10
   a.collision_times = {5, 10};
   b.collision_times = {15};
+  a.catastrophic_times = {10};
   a.conjunction_times = {{1, 2, 3}};
   b.conjunction_times = {{11}};
   auto series = server::aggregate_series({a, b});
@@ -402,6 +406,8 @@ TEST(EnsembleSeries, CommonTimesAndCumulativeMeans) {
   EXPECT_DOUBLE_EQ(series[1].objects_p05(), 9.1);
   EXPECT_DOUBLE_EQ(series[1].debris_mean(), 10);
   EXPECT_DOUBLE_EQ(series[1].collisions_mean(), 1);  // a: 2 at t <= 10, b: 0
+  EXPECT_DOUBLE_EQ(series[0].catastrophic_mean(), 0);
+  EXPECT_DOUBLE_EQ(series[1].catastrophic_mean(), 0.5);
   ASSERT_EQ(series[1].conjunctions_mean_size(), 1);
   EXPECT_DOUBLE_EQ(series[1].conjunctions_mean(0), 1.5);
   EXPECT_TRUE(server::aggregate_series({}).empty());
