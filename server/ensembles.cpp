@@ -109,8 +109,11 @@ std::vector<v1::EnsembleSample> aggregate_series(const std::vector<MemberResults
   std::vector<std::size_t> at(members.size(), 0);
   for (double t : times) {
     // Each member's samples ascend in time: walk them forward to t.
-    for (std::size_t m = 0; m < members.size(); ++m)
-      while (members[m].alive[at[m]].sim_time_s() != t) ++at[m];
+    for (std::size_t m = 0; m < members.size(); ++m) {
+      const auto& alive = members[m].alive;
+      while (at[m] < alive.size() && alive[at[m]].sim_time_s() != t) ++at[m];
+      if (at[m] == alive.size()) throw std::logic_error("ensemble: a member's progress times do not ascend");
+    }
     series.push_back(sample_at(members, at, t));
   }
   return series;

@@ -205,7 +205,14 @@ int cancel(const EnsembleOptions& o, const GlobalOptions& global) {
 CLI::Option* add_ensemble_id(CLI::App& command, std::int64_t& id) {
   return command.add_option("ID", id, "the ensemble's id (kessler ensemble list lists them)")
       ->required()
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            return !text.empty() && text.find_first_not_of("0123456789") == std::string::npos &&
+                           text.find_first_not_of('0') != std::string::npos
+                       ? std::string()
+                       : "must be an ensemble id (a positive integer), got '" + text + "'";
+          },
+          "ID", "ensemble id"));
 }
 
 }  // namespace

@@ -337,6 +337,9 @@ TEST_F(EnsembleEndToEnd, CliShowsTheEnsemble) {
   auto member = cli(dir, "show " + std::to_string(shared_->ensemble.member(1).run_id()) + server);
   EXPECT_EQ(member.exit_code, 0) << member.err;
   EXPECT_NE(member.out.find("ensemble  " + id + ", member 1 (seed 41)"), std::string::npos) << member.out;
+  auto bad_id = cli(dir, "ensemble show 0" + server);
+  EXPECT_EQ(bad_id.exit_code, 2);
+  EXPECT_NE(bad_id.err.find("must be an ensemble id"), std::string::npos) << bad_id.err;
   auto missing = cli(dir, "ensemble show 999" + server);
   EXPECT_EQ(missing.exit_code, 1);
   EXPECT_NE(missing.err.find("NOT_FOUND"), std::string::npos) << missing.err;
