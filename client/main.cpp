@@ -19,6 +19,7 @@ CommandRun setup_fragments(CLI::App& command, GlobalOptions& global);
 CommandRun setup_cancel(CLI::App& command, GlobalOptions& global);
 CommandRun setup_delete(CLI::App& command, GlobalOptions& global);
 CommandRun setup_health(CLI::App& command, GlobalOptions& global);
+CommandRun setup_ensemble(CLI::App& command, GlobalOptions& global);
 #endif
 
 namespace {
@@ -36,6 +37,8 @@ const CommandSpec kCommands[] = {
     {"fragments", "the fragments a run's breakups made (parent, Lc, A/m, mass, dv)", setup_fragments},
     {"cancel", "cancel a queued or running run", setup_cancel},
     {"delete", "delete an ended run and everything stored for it", setup_delete},
+    {"ensemble", "Monte Carlo ensembles (submit --members N): show (aggregates), list, cancel",
+     setup_ensemble},
     {"health", "the daemon's health check: exit 0 when SERVING", setup_health},
 #endif
 };

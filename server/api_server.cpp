@@ -91,6 +91,22 @@ class Service final : public v1::KesslerService::Service {
                              v1::ListFragmentsResponse* out) override {
     return guarded(c, [&] { *out = m_.fragments(*r); });
   }
+  grpc::Status SubmitEnsemble(grpc::ServerContext* c, const v1::SubmitEnsembleRequest* r,
+                              v1::EnsembleReport* out) override {
+    return guarded(c, [&] { *out = m_.submit_ensemble(*r); });
+  }
+  grpc::Status GetEnsemble(grpc::ServerContext* c, const v1::GetEnsembleRequest* r,
+                           v1::EnsembleReport* out) override {
+    return guarded(c, [&] { *out = m_.get_ensemble(*r); });
+  }
+  grpc::Status ListEnsembles(grpc::ServerContext* c, const v1::ListEnsemblesRequest* r,
+                             v1::ListEnsemblesResponse* out) override {
+    return guarded(c, [&] { *out = m_.list_ensembles(*r); });
+  }
+  grpc::Status CancelEnsemble(grpc::ServerContext* c, const v1::CancelEnsembleRequest* r,
+                              v1::EnsembleReport* out) override {
+    return guarded(c, [&] { *out = m_.cancel_ensemble(r->ensemble_id()); });
+  }
 
  private:
   RunManager& m_;

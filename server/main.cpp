@@ -28,6 +28,8 @@ options:
   --runs-at-once N      runs simulated at the same time; the rest queue in order (default 1)
   --threads N           OpenMP threads per run unless a submission asks otherwise (default 0: all cores)
   --queue-limit N       queued runs accepted before SubmitRun answers RESOURCE_EXHAUSTED (default 1000)
+  --max-ensemble-members N
+                        most members SubmitEnsemble takes; more is INVALID_ARGUMENT (default 1000)
   --max-message-mb N    largest request accepted, e.g. a scenario with an inline catalog (default 64)
   --datasets DIR        bundled datasets (default: the build's deploy/datasets)
   --traffic-plans DIR   shipped launch plans, a scenario's traffic.plans (default: the build's
@@ -82,6 +84,10 @@ int main(int argc, char** argv) {
     } else if (arg == "--queue-limit") {
       if (!parse_int(value, 1, 1000000, n)) return usage_error("--queue-limit needs an integer 1..1000000");
       options.queue_limit = static_cast<std::size_t>(n);
+    } else if (arg == "--max-ensemble-members") {
+      if (!parse_int(value, 1, 1000000, n))
+        return usage_error("--max-ensemble-members needs an integer 1..1000000");
+      options.max_ensemble_members = static_cast<std::uint64_t>(n);
     } else if (arg == "--max-message-mb") {
       if (!parse_int(value, 1, 2000, n)) return usage_error("--max-message-mb needs an integer 1..2000");
       max_message_mb = n;

@@ -246,18 +246,22 @@ std::shared_ptr<EventHub> RunManager::hub(std::int64_t run_id) {
   return it == hubs_.end() ? nullptr : it->second;
 }
 
-v1::Run RunManager::submit(const v1::SubmitRunRequest& request) {
-  v1::Scenario scenario;
-  if (request.has_scenario()) {
-    scenario = request.scenario();
-  } else if (request.has_scenario_text()) {
-    if (auto error = parse_scenario(request.scenario_text(), scenario))
+v1::Scenario RunManager::read_scenario(const v1::Scenario* scenario, const std::string* text) {
+  v1::Scenario out;
+  if (scenario) {
+    out = *scenario;
+  } else if (text) {
+    if (auto error = parse_scenario(*text, out))
       throw ServiceError(Code::kInvalidArgument, error->message(), error->path);
   } else {
     throw ServiceError(Code::kInvalidArgument, "scenario: missing (give scenario or scenario_text)",
                        "scenario");
   }
-  if (request.threads() < 0 || request.threads() > 1024)
+  return out;
+}
+
+std::optional<v1::IngestReport> RunManager::admit(const v1::Scenario& scenario, int threads) {
+  if (threads < 0 || threads > 1024)
     throw ServiceError(Code::kInvalidArgument, "threads: must be between 0 and 1024", "threads");
   if (auto error = validate_scenario(scenario))
     throw ServiceError(Code::kInvalidArgument, error->message(), error->path);
@@ -274,12 +278,26 @@ v1::Run RunManager::submit(const v1::SubmitRunRequest& request) {
     if (!build_simulation(scenario, build, &error, &ingest))
       throw ServiceError(Code::kInvalidArgument, error.message(), error.path);
   }
+  if (!ingest) return std::nullopt;
+  return ingest_proto(*ingest);
+}
+
+v1::Run RunManager::submit(const v1::SubmitRunRequest& request) {
+  const v1::Scenario scenario =
+      read_scenario(request.has_scenario() ? &request.scenario() : nullptr,
+                    request.has_scenario_text() ? &request.scenario_text() : nullptr);
+  if (scenario.has_ensemble())
+    throw ServiceError(Code::kInvalidArgument,
+                       "ensemble: a scenario with an ensemble is submitted with SubmitEnsemble "
+                       "(kessler submit does)",
+                       "ensemble");
+  std::optional<v1::IngestReport> ingest = admit(scenario, request.threads());
   if (scheduler_->queued() >= options_.queue_limit)
     throw ServiceError(Code::kResourceExhausted, "queue full: " + std::to_string(options_.queue_limit) +
                                                      " runs are waiting; try later");
   int threads = request.threads() > 0 ? request.threads() : options_.threads_per_run;
   std::int64_t id = store_.create_run(scenario, threads, unix_now_s());
-  if (ingest) store_.set_ingest(id, ingest_proto(*ingest));
+  if (ingest) store_.set_ingest(id, *ingest);
   if (!scheduler_->enqueue(id)) {
     store_.delete_run(id);
     throw ServiceError(Code::kResourceExhausted, "queue full: " + std::to_string(options_.queue_limit) +

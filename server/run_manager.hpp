@@ -10,6 +10,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -43,6 +44,7 @@ struct ManagerOptions {
   int runs_at_once = 1;
   int threads_per_run = 0;  // 0: OpenMP's default
   std::size_t queue_limit = 1000;
+  std::uint64_t max_ensemble_members = 1000;  // SubmitEnsemble takes 1..this many members
   std::string datasets_dir;  // empty: the build's bundled datasets
   std::string traffic_dir;   // shipped launch plans; empty: the build's deploy/traffic
   std::size_t hub_capacity = 65536;
@@ -89,6 +91,12 @@ class RunManager {
   v1::RunStats stats(const v1::GetRunStatsRequest& request);
   v1::ListFragmentsResponse fragments(const v1::ListFragmentsRequest& request);
 
+  // Ensembles (server/ensembles.cpp).
+  v1::EnsembleReport submit_ensemble(const v1::SubmitEnsembleRequest& request);
+  v1::EnsembleReport get_ensemble(const v1::GetEnsembleRequest& request);
+  v1::ListEnsemblesResponse list_ensembles(const v1::ListEnsemblesRequest& request);
+  v1::EnsembleReport cancel_ensemble(std::int64_t ensemble_id);
+
   // Streams the run's events after request.after_seq through `write` (false: the client has gone)
   // until the run ends, `stop()` turns true or the daemon shuts down (ServiceError kUnavailable).
   // `more` tells the writer that another event follows at once.
@@ -103,6 +111,12 @@ class RunManager {
   double relay_cpu_s() const { return relay_cpu_s_.load(); }
 
  private:
+  // The submitted scenario (given, or parsed from text); INVALID_ARGUMENT when neither or unparsable.
+  v1::Scenario read_scenario(const v1::Scenario* scenario, const std::string* text);
+  // Validates a submission (an inline catalog is ingested here); its ingest report where it has one.
+  std::optional<v1::IngestReport> admit(const v1::Scenario& scenario, int threads);
+  // The ensemble without members, series and scenario; NOT_FOUND when there is none.
+  v1::EnsembleReport ensemble_head(std::int64_t ensemble_id);
   // with_scenario false: without the (possibly large) scenario message.
   v1::Run get(std::int64_t run_id, bool with_scenario);
   void execute(std::int64_t run_id, RunControl& control);

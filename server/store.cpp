@@ -1,5 +1,6 @@
 // The store's database: the schema and its migrations, the connections. Runs are in store_runs.cpp,
-// the writer thread in store_writer.cpp, the queries in store_queries.cpp.
+// the writer thread in store_writer.cpp, the queries in store_queries.cpp, breakups in
+// store_breakups.cpp, ensembles in store_ensembles.cpp.
 #include "server/store.hpp"
 
 #include <pthread.h>
@@ -109,6 +110,20 @@ const char* const kMigrations[] = {
       altitude_m REAL NOT NULL,
       PRIMARY KEY (run_id, seq)
     ) WITHOUT ROWID;
+    )sql",
+    // Monte Carlo ensembles: the submitted scenario, and each member run's ensemble and index.
+    R"sql(
+    CREATE TABLE ensembles (
+      id INTEGER PRIMARY KEY AUTOINCREMENT,
+      name TEXT NOT NULL,
+      scenario BLOB NOT NULL,
+      members INTEGER NOT NULL,
+      base_seed INTEGER NOT NULL,
+      created_unix_s REAL NOT NULL
+    );
+    ALTER TABLE runs ADD COLUMN ensemble_id INTEGER NOT NULL DEFAULT 0;
+    ALTER TABLE runs ADD COLUMN member_index INTEGER NOT NULL DEFAULT 0;
+    CREATE INDEX runs_by_ensemble ON runs(ensemble_id, member_index) WHERE ensemble_id != 0;
     )sql",
 };
 constexpr int kMigrationCount = sizeof(kMigrations) / sizeof(kMigrations[0]);

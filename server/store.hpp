@@ -48,6 +48,25 @@ struct StoredFragment {
   double delta_v_m_s = 0.0;
 };
 
+// An ensemble as the store keeps it (its members are runs with its id).
+struct StoredEnsemble {
+  std::int64_t id = 0;
+  std::string name;
+  double created_unix_s = 0.0;
+  std::uint64_t members = 0;
+  std::uint64_t base_seed = 0;
+  v1::Scenario scenario;  // as submitted (when asked for)
+};
+
+// What the ensemble aggregates take from one member's stored results.
+struct MemberResults {
+  std::vector<v1::AliveSample> alive;      // its progress events' counts, by time (one per time)
+  std::vector<double> collision_times;     // tca_s of its collisions, sorted
+  std::vector<double> catastrophic_times;  // time_s of its catastrophic collision breakups, sorted
+  std::vector<std::vector<double>> conjunction_times;  // per kappa threshold: tca_s of conjunctions
+                                                       // (collisions too, not evasions) at or below it
+};
+
 // One page of a query: items and the token of the next page (empty on the last).
 template <typename T>
 struct Page {
@@ -68,7 +87,7 @@ class Store {
   Store(const Store&) = delete;
   Store& operator=(const Store&) = delete;
 
-  static constexpr int kSchemaVersion = 4;
+  static constexpr int kSchemaVersion = 5;
   int schema_version();
 
   // Runs. The id is assigned here.
@@ -93,6 +112,21 @@ class Store {
   std::map<std::uint64_t, std::string> object_names(std::int64_t run_id);
   // Removes the run and everything stored for it. False when there was no such run.
   bool delete_run(std::int64_t run_id);
+
+  // Ensembles (store_ensembles.cpp). Creates the ensemble and its member runs (queued, member k from
+  // members[k]) in one transaction; returns the ensemble's id and the runs' ids by index.
+  std::pair<std::int64_t, std::vector<std::int64_t>> create_ensemble(const v1::Scenario& submitted,
+                                                                     const std::vector<v1::Scenario>& members,
+                                                                     int threads, std::uint64_t base_seed,
+                                                                     double created_unix_s);
+  std::optional<StoredEnsemble> get_ensemble(std::int64_t ensemble_id, bool with_scenario = true);
+  // Newest first; the page token is the last id of the previous page.
+  Page<StoredEnsemble> list_ensembles(int page_size, const std::string& page_token);
+  // The member runs still stored, by index (without their scenarios).
+  std::vector<v1::Run> ensemble_runs(std::int64_t ensemble_id);
+  // Counts of the member runs by state.
+  std::map<v1::RunState, std::uint64_t> ensemble_states(std::int64_t ensemble_id);
+  MemberResults member_results(std::int64_t run_id, const std::vector<double>& kappas);
 
   // Events, through the writer thread. `event` must carry seq and run_id.
   void append_event(std::shared_ptr<const v1::RunEvent> event);

@@ -100,6 +100,12 @@ extern const char* const kLifecycleInsertSql;
 void write_lifecycle_row(Statement& lifecycle_insert, const v1::RunEvent& event);
 // The run's lifecycle events counted by kind into the statistics (launches, objects launched, ...).
 void count_lifecycle_events(sqlite3* db, std::int64_t run_id, v1::RunStats& stats);
+// Runs (store_runs.cpp): a new queued run's row, and the columns a Run is read from (run_row takes a
+// statement that selected kRunColumnsSql first).
+std::int64_t insert_run(sqlite3* db, const v1::Scenario& scenario, int threads, double created_unix_s,
+                        std::int64_t ensemble_id, std::uint64_t member_index);
+extern const char* const kRunColumnsSql;
+v1::Run run_row(const Statement& s);
 
 inline sqlite3* open_connection(const std::string& path) {
   sqlite3* db = nullptr;

@@ -14,19 +14,30 @@ using namespace detail;
 
 std::int64_t Store::create_run(const v1::Scenario& scenario, int threads, double created_unix_s) {
   Lease lease(*this);
-  Statement s(lease.db(),
-              "INSERT INTO runs(name, state, scenario, threads, created_unix_s) VALUES(?, ?, ?, ?, ?)");
+  return insert_run(lease.db(), scenario, threads, created_unix_s, 0, 0);
+}
+
+namespace detail {
+
+std::int64_t insert_run(sqlite3* db, const v1::Scenario& scenario, int threads, double created_unix_s,
+                        std::int64_t ensemble_id, std::uint64_t member_index) {
+  Statement s(db,
+              "INSERT INTO runs(name, state, scenario, threads, created_unix_s, ensemble_id, member_index) "
+              "VALUES(?, ?, ?, ?, ?, ?, ?)");
   std::string bytes = scenario.SerializeAsString();
   s.bind(1, scenario.name()).bind(2, static_cast<int>(v1::RUN_STATE_QUEUED)).bind_blob(3, bytes);
-  s.bind(4, threads).bind(5, created_unix_s);
+  s.bind(4, threads).bind(5, created_unix_s).bind(6, ensemble_id).bind(7, member_index);
   s.run();
-  return sqlite3_last_insert_rowid(lease.db());
+  return sqlite3_last_insert_rowid(db);
 }
+
+}  // namespace detail
 
 namespace {
 
 const char* const kRunColumns =
-    "id, name, state, threads, created_unix_s, started_unix_s, finished_unix_s, error, summary, ingest";
+    "id, name, state, threads, created_unix_s, started_unix_s, finished_unix_s, error, summary, ingest, "
+    "ensemble_id, member_index";
 
 v1::Run run_from_row(const Statement& s) {
   v1::Run run;
@@ -40,10 +51,19 @@ v1::Run run_from_row(const Statement& s) {
   run.set_error(s.text(7));
   if (!s.is_null(8)) run.mutable_summary()->ParseFromString(s.text(8));
   if (!s.is_null(9)) run.mutable_ingest()->ParseFromString(s.text(9));
+  run.set_ensemble_id(s.i64(10));
+  run.set_member_index(static_cast<std::uint64_t>(s.i64(11)));
   return run;
 }
 
 }  // namespace
+
+namespace detail {
+const char* const kRunColumnsSql = kRunColumns;
+v1::Run run_row(const Statement& s) {
+  return run_from_row(s);
+}
+}  // namespace detail
 
 std::optional<v1::Run> Store::get_run(std::int64_t run_id, bool with_scenario) {
   Lease lease(*this);
@@ -51,7 +71,7 @@ std::optional<v1::Run> Store::get_run(std::int64_t run_id, bool with_scenario) {
   s.bind(1, run_id);
   if (!s.step()) return std::nullopt;
   v1::Run run = run_from_row(s);
-  if (with_scenario) run.mutable_scenario()->ParseFromString(s.text(10));
+  if (with_scenario) run.mutable_scenario()->ParseFromString(s.text(12));
   Statement last(lease.db(), "SELECT MAX(seq) FROM events WHERE run_id = ?");
   last.bind(1, run_id);
   if (last.step() && !last.is_null(0)) run.set_last_seq(static_cast<std::uint64_t>(last.i64(0)));

@@ -30,6 +30,9 @@ void print_header(const v1::Run& run) {
   std::cout << "run " << run.id() << (run.name().empty() ? "" : " (" + run.name() + ")") << ": "
             << v1::run_state_name(run.state()) << "\n";
   if (!run.error().empty()) std::cout << "  error     " << run.error() << "\n";
+  if (run.ensemble_id() != 0)
+    std::cout << "  ensemble  " << run.ensemble_id() << ", member " << run.member_index() << " (seed "
+              << run.scenario().seed() << ")\n";
   std::cout << "  created   " << unix_time_text(run.created_unix_s()) << "\n"
             << "  started   " << unix_time_text(run.started_unix_s()) << "\n"
             << "  finished  " << unix_time_text(run.finished_unix_s()) << "\n"

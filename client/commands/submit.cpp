@@ -1,4 +1,5 @@
-// kessler submit FILE: queues a run of a scenario on kesslerd and, with --watch, follows it to its end.
+// kessler submit FILE: queues a run of a scenario on kesslerd and, with --watch, follows it to its end;
+// with --members N (or a scenario with an ensemble) queues a Monte Carlo ensemble of N runs instead.
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -18,6 +19,7 @@ struct SubmitOptions {
   std::string scenario_path, catalog_path;
   bool watch = false;
   int threads = -1;  // -1: not given (the daemon's --threads)
+  std::int64_t members = -1;  // -1: not given (the scenario's ensemble, if any)
   WatchOptions follow;
 };
 
@@ -52,12 +54,58 @@ std::optional<int> make_request(const SubmitOptions& o, v1::SubmitRunRequest& re
   return std::nullopt;
 }
 
+// Whether the request is for an ensemble: --members, or a scenario that asks for one (a scenario the
+// CLI cannot parse goes to SubmitRun, which says what is wrong with it).
+bool wants_ensemble(const SubmitOptions& o, const v1::SubmitRunRequest& request) {
+  if (o.members >= 0) return true;
+  if (request.has_scenario()) return request.scenario().has_ensemble();
+  v1::Scenario scenario;
+  return !parse_scenario(request.scenario_text(), scenario) && scenario.has_ensemble();
+}
+
+int submit_ensemble(const SubmitOptions& o, const v1::SubmitRunRequest& run_request, OutputFormat format,
+                    RemoteClient& client) {
+  if (o.watch) return usage_error("submit", "--watch follows one run; an ensemble's members are runs to watch");
+  v1::SubmitEnsembleRequest request;
+  if (run_request.has_scenario()) *request.mutable_scenario() = run_request.scenario();
+  else request.set_scenario_text(run_request.scenario_text());
+  request.set_threads(run_request.threads());
+  if (o.members > 0) request.set_members(static_cast<std::uint64_t>(o.members));
+  v1::EnsembleReport ensemble;
+  CallResult r = client.submit_ensemble(request, ensemble);
+  if (!r.ok) {
+    std::cerr << "kessler submit: " << o.scenario_path << ": " << r.describe() << "\n";
+    return r.exit_code();
+  }
+  std::string run_ids;
+  for (const auto& m : ensemble.member()) run_ids += (run_ids.empty() ? "" : ",") + std::to_string(m.run_id());
+  if (format == OutputFormat::kJson)
+    std::cout << JsonObject()
+                     .add("ensemble_id", static_cast<std::int64_t>(ensemble.id()))
+                     .add("members", static_cast<std::uint64_t>(ensemble.members()))
+                     .add("base_seed", static_cast<std::uint64_t>(ensemble.base_seed()))
+                     .add("state", v1::run_state_name(ensemble.state()))
+                     .add_raw("run_ids", "[" + run_ids + "]")
+                     .str()
+              << "\n";
+  else
+    std::cout << "ensemble " << ensemble.id() << " " << v1::run_state_name(ensemble.state()) << ": "
+              << ensemble.members() << " members, seeds " << ensemble.base_seed() << ".."
+              << ensemble.base_seed() + ensemble.members() - 1 << ", runs " << run_ids << "\n";
+  return kExitOk;
+}
+
 int submit(const SubmitOptions& o, const GlobalOptions& global) {
   OutputFormat format;
   if (!resolve_output("submit", global.output, {"table", "json"}, format)) return kExitUsage;
+  if (o.members == 0) {
+    std::cerr << "kessler submit: ensemble.members: must be at least 1, got 0\n";
+    return kExitUsage;
+  }
   v1::SubmitRunRequest request;
   if (auto exit = make_request(o, request)) return *exit;
   RemoteClient client(server_address(global.server));
+  if (wants_ensemble(o, request)) return submit_ensemble(o, request, format, client);
   v1::Run run;
   CallResult r = client.submit(request, run);
   if (!r.ok) {
@@ -94,16 +142,25 @@ CommandRun setup_submit(CLI::App& command, GlobalOptions& global) {
   command.add_option("--threads", o->threads, "OpenMP threads of this run (default: the daemon's --threads)")
       ->option_text("N")
       ->check(CLI::Range(0, 1024));
+  command
+      .add_option("--members", o->members,
+                  "queue a Monte Carlo ensemble of N runs, member k with the scenario's seed + k (overrides "
+                  "the scenario's ensemble.members)")
+      ->option_text("N")
+      ->check(CLI::NonNegativeNumber);
   add_watch_options(command, o->follow);
   add_global_options(command, global, kWatchOutputHelp);
   command.footer(
       "Sends the scenario in FILE (YAML or JSON) to kesslerd, which validates it and queues a run. Prints "
       "the "
-      "run's id; with --watch, follows the run live to its end like 'kessler watch'."
+      "run's id; with --watch, follows the run live to its end like 'kessler watch'. With --members N, or "
+      "a scenario with ensemble.members, queues an ensemble of N runs that differ only in their seed and "
+      "prints the ensemble's id ('kessler ensemble show ID' aggregates the members)."
       "\n\n"
       "examples:\n"
       "  kessler submit deploy/scenarios/paper-1day.yaml --watch\n"
-      "  kessler submit my.yaml --catalog tles.txt --output json");
+      "  kessler submit my.yaml --catalog tles.txt --output json\n"
+      "  kessler submit my.yaml --members 100 --output json   (then: kessler ensemble show ID)");
   return [o, &global] { return submit(*o, global); };
 }
 

@@ -101,6 +101,24 @@ CallResult RemoteClient::submit(const v1::SubmitRunRequest& request, v1::Run& ou
   return unary(*impl_->stub, &v1::KesslerService::Stub::SubmitRun, request, out);
 }
 
+CallResult RemoteClient::submit_ensemble(const v1::SubmitEnsembleRequest& request, v1::EnsembleReport& out) {
+  return unary(*impl_->stub, &v1::KesslerService::Stub::SubmitEnsemble, request, out);
+}
+
+CallResult RemoteClient::get_ensemble(const v1::GetEnsembleRequest& request, v1::EnsembleReport& out) {
+  return unary(*impl_->stub, &v1::KesslerService::Stub::GetEnsemble, request, out);
+}
+
+CallResult RemoteClient::list_ensembles(const v1::ListEnsemblesRequest& request, v1::ListEnsemblesResponse& out) {
+  return unary(*impl_->stub, &v1::KesslerService::Stub::ListEnsembles, request, out);
+}
+
+CallResult RemoteClient::cancel_ensemble(std::int64_t ensemble_id, v1::EnsembleReport& out) {
+  v1::CancelEnsembleRequest request;
+  request.set_ensemble_id(ensemble_id);
+  return unary(*impl_->stub, &v1::KesslerService::Stub::CancelEnsemble, request, out);
+}
+
 CallResult RemoteClient::get(std::int64_t run_id, v1::Run& out) {
   v1::GetRunRequest request;
   request.set_run_id(run_id);

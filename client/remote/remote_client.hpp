@@ -39,6 +39,10 @@ class RemoteClient {
   CallResult conjunctions(const v1::ListConjunctionsRequest& request, v1::ListConjunctionsResponse& out);
   CallResult stats(const v1::GetRunStatsRequest& request, v1::RunStats& out);
   CallResult fragments(const v1::ListFragmentsRequest& request, v1::ListFragmentsResponse& out);
+  CallResult submit_ensemble(const v1::SubmitEnsembleRequest& request, v1::EnsembleReport& out);
+  CallResult get_ensemble(const v1::GetEnsembleRequest& request, v1::EnsembleReport& out);
+  CallResult list_ensembles(const v1::ListEnsemblesRequest& request, v1::ListEnsemblesResponse& out);
+  CallResult cancel_ensemble(std::int64_t ensemble_id, v1::EnsembleReport& out);
   // The standard health check (grpc.health.v1.Health/Check) of `service` ("" for the whole server):
   // `status` gets SERVING, NOT_SERVING, SERVICE_UNKNOWN or UNKNOWN. A service the daemon does not
   // know is NOT_FOUND.

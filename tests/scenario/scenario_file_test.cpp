@@ -55,7 +55,7 @@ seed: 42
      "propagator, "
      "integrator, force_model, population, conjunctions, burn_up_altitude_km, checkpoints, "
      "progress_every_steps, "
-     "seed, breakups, traffic)"},
+     "seed, breakups, traffic, ensemble)"},
     {"unknown nested key", "population: {dataset: leo-19647}\nconjunctions: {kappa: 3}",
      "conjunctions.kappa: unknown key (known keys here: enabled, narrow_phase, kappa_max, "
      "screening_distance_km, "
