@@ -14,6 +14,9 @@ inline constexpr double kDtS = 30.0;  // with the default integrator, blanes_moa
 inline constexpr double kBurnUpAltitudeKm = 150.0;
 inline constexpr double kKappaMax = 10.0;
 inline constexpr double kActivePassiveMaxPassiveRadiusM = 0.10;
+// NRLMSISE-00's constant solar activity: a moderate Sun.
+inline constexpr double kConstantF107Sfu = 150.0;
+inline constexpr double kConstantAp = 15.0;
 inline constexpr int kCheckpointsPerRun = 50;  // every_steps default: total steps / 50
 inline constexpr double kCheckpointEveryWallS = 60.0;
 inline constexpr unsigned long long kSeed = 1;

@@ -47,6 +47,27 @@ double duration_s_of(const v1::Scenario& s) {
   return (s.has_duration_days() ? s.duration_days() : d::kDurationDays) * 86400.0;
 }
 
+// The atmosphere's solar activity: known enum numbers, constants in range, and only with NRLMSISE-00.
+std::optional<FieldError> validate_solar_activity(const v1::ForceModel& f) {
+  if (!v1::Atmosphere_IsValid(f.atmosphere()))
+    return FieldError{"force_model.atmosphere", "unknown value " + std::to_string(f.atmosphere())};
+  if (!f.has_solar_activity()) return std::nullopt;
+  const auto& sun = f.solar_activity();
+  if (f.atmosphere() != v1::ATMOSPHERE_NRLMSISE00)
+    return FieldError{"force_model.solar_activity", "only the nrlmsise00 atmosphere reads solar activity"};
+  if (!v1::SolarActivityMode_IsValid(sun.mode()))
+    return FieldError{"force_model.solar_activity.mode", "unknown value " + std::to_string(sun.mode())};
+  const bool constant = sun.mode() == v1::SOLAR_ACTIVITY_MODE_CONSTANT;
+  if ((sun.has_f107_sfu() || sun.has_ap()) && !constant)
+    return FieldError{sun.has_f107_sfu() ? "force_model.solar_activity.f107_sfu" : "force_model.solar_activity.ap",
+                      "only the constant mode takes fixed values"};
+  if (sun.has_f107_sfu() && !(sun.f107_sfu() > 0.0 && sun.f107_sfu() <= 1000.0))
+    return FieldError{"force_model.solar_activity.f107_sfu", "must be in (0, 1000] sfu, got " + number(sun.f107_sfu())};
+  if (sun.has_ap() && !(sun.ap() >= 0.0 && sun.ap() <= 400.0))
+    return FieldError{"force_model.solar_activity.ap", "must be in [0, 400], got " + number(sun.ap())};
+  return std::nullopt;
+}
+
 std::optional<FieldError> validate_rules(const v1::IngestRules& r) {
   if (auto e = non_negative(r.has_min_perigee_km(), r.min_perigee_km(), "population.rules.min_perigee_km"))
     return e;
@@ -182,6 +203,11 @@ std::optional<FieldError> validate_scenario(const v1::Scenario& s) {
           non_negative(c.has_active_passive_max_passive_radius_m(), c.active_passive_max_passive_radius_m(),
                        "conjunctions.active_passive_max_passive_radius_m"))
     return e;
+  if (c.has_active_passive_evasion_efficiency() &&
+      !(c.active_passive_evasion_efficiency() >= 0.0 && c.active_passive_evasion_efficiency() <= 1.0))
+    return FieldError{"conjunctions.active_passive_evasion_efficiency",
+                      "must be in [0, 1], got " + number(c.active_passive_evasion_efficiency())};
+  if (auto e = validate_solar_activity(s.force_model())) return e;
   // The breakups' epochs fall in the steps the run takes: floor(duration / dt) whole steps.
   SimulationConfig steps;
   steps.duration_s = duration;
@@ -204,9 +230,15 @@ SimulationConfig to_simulation_config(const v1::Scenario& s, int threads) {
   c.force_model.drag = f.has_drag() ? f.drag() : true;
   c.force_model.srp = f.has_srp() ? f.srp() : true;
   c.force_model.srp_earth_shadow = f.has_srp_earth_shadow() ? f.srp_earth_shadow() : true;
-  c.force_model.atmosphere = f.atmosphere() == v1::ATMOSPHERE_EXPONENTIAL_FIT
-                                 ? AtmosphereModel::kExponentialFit
-                                 : AtmosphereModel::kDensityTable;
+  c.force_model.atmosphere = f.atmosphere() == v1::ATMOSPHERE_EXPONENTIAL_FIT ? AtmosphereModel::kExponentialFit
+                              : f.atmosphere() == v1::ATMOSPHERE_NRLMSISE00     ? AtmosphereModel::kNrlmsise00
+                                                                                : AtmosphereModel::kDensityTable;
+  const auto& sun = f.solar_activity();
+  c.force_model.solar_activity.mode = sun.mode() == v1::SOLAR_ACTIVITY_MODE_CYCLE      ? SolarActivityMode::kCycle
+                                      : sun.mode() == v1::SOLAR_ACTIVITY_MODE_CONSTANT ? SolarActivityMode::kConstant
+                                                                                       : SolarActivityMode::kObserved;
+  c.force_model.solar_activity.f107_sfu = sun.has_f107_sfu() ? sun.f107_sfu() : d::kConstantF107Sfu;
+  c.force_model.solar_activity.ap = sun.has_ap() ? sun.ap() : d::kConstantAp;
   const auto& k = s.conjunctions();
   c.conjunctions_enabled = k.has_enabled() ? k.enabled() : true;
   c.conjunctions.narrow_phase =
@@ -214,6 +246,8 @@ SimulationConfig to_simulation_config(const v1::Scenario& s, int threads) {
   c.conjunctions.kappa_max = k.has_kappa_max() ? k.kappa_max() : d::kKappaMax;
   c.conjunctions.screening_distance_m = k.has_screening_distance_km() ? k.screening_distance_km() * 1e3 : 0.0;
   c.conjunctions.active_pairs_evade = k.has_active_pairs_evade() ? k.active_pairs_evade() : true;
+  c.conjunctions.active_passive_evasion_efficiency =
+      k.has_active_passive_evasion_efficiency() ? k.active_passive_evasion_efficiency() : 1.0;
   c.conjunctions.active_passive_max_passive_radius_m = k.has_active_passive_max_passive_radius_m()
                                                            ? k.active_passive_max_passive_radius_m()
                                                            : d::kActivePassiveMaxPassiveRadiusM;

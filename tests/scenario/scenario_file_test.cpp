@@ -59,7 +59,23 @@ seed: 42
     {"unknown nested key", "population: {dataset: leo-19647}\nconjunctions: {kappa: 3}",
      "conjunctions.kappa: unknown key (known keys here: enabled, narrow_phase, kappa_max, "
      "screening_distance_km, "
-     "active_pairs_evade, active_passive_max_passive_radius_m)"},
+     "active_pairs_evade, active_passive_max_passive_radius_m, active_passive_evasion_efficiency)"},
+    {"nrlmsise00 constant", "population: {dataset: leo-19647}\nforce_model: {atmosphere: nrlmsise00, "
+     "solar_activity: {mode: constant, f107_sfu: 200, ap: 12}}", ""},
+    {"nrlmsise00 cycle", "population: {dataset: leo-19647}\nforce_model: {atmosphere: nrlmsise00, "
+     "solar_activity: {mode: cycle}}", ""},
+    {"solar activity without nrlmsise00", "population: {dataset: leo-19647}\nforce_model: {solar_activity: "
+     "{mode: cycle}}", "force_model.solar_activity: only the nrlmsise00 atmosphere reads solar activity"},
+    {"f107 out of range", "population: {dataset: leo-19647}\nforce_model: {atmosphere: nrlmsise00, "
+     "solar_activity: {mode: constant, f107_sfu: -3}}",
+     "force_model.solar_activity.f107_sfu: must be in (0, 1000] sfu, got -3"},
+    {"ap out of range", "population: {dataset: leo-19647}\nforce_model: {atmosphere: nrlmsise00, "
+     "solar_activity: {mode: constant, ap: 500}}", "force_model.solar_activity.ap: must be in [0, 400], got 500"},
+    {"fixed values need the constant mode", "population: {dataset: leo-19647}\nforce_model: {atmosphere: "
+     "nrlmsise00, solar_activity: {mode: observed, ap: 5}}",
+     "force_model.solar_activity.ap: only the constant mode takes fixed values"},
+    {"evasion efficiency", "population: {dataset: leo-19647}\nconjunctions: {active_passive_evasion_efficiency: 1.5}",
+     "conjunctions.active_passive_evasion_efficiency: must be in [0, 1], got 1.5"},
     {"number as text", "dt_s: ten\npopulation: {dataset: leo-19647}", "dt_s: expected a number, got 'ten'"},
     {"quoted number", "{\"dt_s\": \"10\", \"population\": {\"dataset\": \"leo-19647\"}}",
      "dt_s: expected a number, got the string '10'"},
@@ -145,6 +161,24 @@ TEST(ScenarioMapping, IntegratorNamesMapOntoTheCompositions) {
   auto error = parse_scenario("population: {synthetic: {objects: 5}}\nintegrator: rk4", s);
   ASSERT_TRUE(error);
   EXPECT_EQ(error->path, "integrator");
+}
+
+TEST(ScenarioMapping, TheSolarCycleAtmosphereAndTheEvasionEfficiencyReachTheCore) {
+  v1::Scenario s;
+  ASSERT_FALSE(parse_scenario("population: {synthetic: {objects: 5}}\nforce_model: {atmosphere: nrlmsise00, "
+                              "solar_activity: {mode: constant, f107_sfu: 210, ap: 7}}\n"
+                              "conjunctions: {active_passive_evasion_efficiency: 0.8}",
+                              s));
+  SimulationConfig c = to_simulation_config(s);
+  EXPECT_EQ(c.force_model.atmosphere, AtmosphereModel::kNrlmsise00);
+  EXPECT_EQ(c.force_model.solar_activity.mode, SolarActivityMode::kConstant);
+  EXPECT_EQ(c.force_model.solar_activity.f107_sfu, 210.0);
+  EXPECT_EQ(c.force_model.solar_activity.ap, 7.0);
+  EXPECT_EQ(c.conjunctions.active_passive_evasion_efficiency, 0.8);
+  ASSERT_FALSE(parse_scenario("population: {synthetic: {objects: 5}}\nforce_model: {atmosphere: nrlmsise00}", s));
+  c = to_simulation_config(s);
+  EXPECT_EQ(c.force_model.solar_activity.mode, SolarActivityMode::kObserved);
+  EXPECT_EQ(c.conjunctions.active_passive_evasion_efficiency, 1.0);
 }
 
 // Every default is the paper's but the integrator and its step: Blanes-Moan at 30 s, more exact and
