@@ -27,6 +27,7 @@ enum class RandomPurpose : std::uint64_t {
   // Collision avoidance below full efficiency (core/conjunctions/pair_rules.hpp): id mixes the pair,
   // the counter is the bits of the time of closest approach.
   kEvasion = 34,
+  kRemainingLifetime = 35,  // an active catalog payload's remaining operational lifetime (id: the object)
 };
 
 // SplitMix64's finaliser (Steele, Lea & Flood 2014): a bijective 64-bit mix.

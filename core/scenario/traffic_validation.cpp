@@ -81,6 +81,14 @@ std::optional<FieldError> validate_business_as_usual(const v1::BusinessAsUsual& 
   return std::nullopt;
 }
 
+std::optional<FieldError> validate_catalog_lifetime(const v1::Traffic& t) {
+  if (t.has_catalog_active_lifetime_years() &&
+      !(t.catalog_active_lifetime_years() >= 0.0 && t.catalog_active_lifetime_years() <= 100.0))
+    return FieldError{"traffic.catalog_active_lifetime_years",
+                      "must be in [0, 100] years, got " + number(t.catalog_active_lifetime_years())};
+  return std::nullopt;
+}
+
 std::optional<FieldError> validate_disposal(const v1::Disposal& p) {
   if (p.has_success_probability() && !(p.success_probability() >= 0.0 && p.success_probability() <= 1.0))
     return FieldError{"traffic.disposal.success_probability",
@@ -148,15 +156,17 @@ std::optional<FieldError> validate_traffic(const v1::Scenario& scenario) {
   if (auto e = validate_plans(t)) return e;
   if (auto e = validate_business_as_usual(t.business_as_usual())) return e;
   if (auto e = validate_disposal(t.disposal())) return e;
+  if (auto e = validate_catalog_lifetime(t)) return e;
   if (!(t.has_enabled() && t.enabled())) return std::nullopt;
   if (scenario.propagator() == v1::PROPAGATOR_SGP4)
     return FieldError{"traffic.enabled",
                       "traffic needs the numerical propagator (SGP4 cannot move launched objects, which have "
                       "no element sets); set propagator: numerical or leave it out"};
   const bool bau = t.business_as_usual().has_enabled() && t.business_as_usual().enabled();
-  if (t.launch_plan_csv().empty() && t.plans_size() == 0 && !bau)
+  if (t.launch_plan_csv().empty() && t.plans_size() == 0 && !bau && !(t.catalog_active_lifetime_years() > 0.0))
     return FieldError{"traffic.enabled",
-                      "no launches: give launch_plan_csv, plans or business_as_usual (enabled: true)"};
+                      "nothing to do: give launch_plan_csv, plans, business_as_usual (enabled: true) or "
+                      "catalog_active_lifetime_years"};
   return std::nullopt;
 }
 
@@ -169,6 +179,7 @@ TrafficSettings traffic_settings_of(const v1::Traffic& t) {
   s.disposal.target_lifetime_years =
       p.has_target_lifetime_years() ? p.target_lifetime_years() : d::kDisposalTargetLifetimeYears;
   s.disposal.deorbit = p.has_deorbit() && p.deorbit();
+  s.catalog_active_lifetime_years = t.catalog_active_lifetime_years();
   return s;
 }
 

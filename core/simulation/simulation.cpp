@@ -57,6 +57,7 @@ void hash_traffic_settings(Sha256& h, const TrafficSettings& t) {
   h.update_f64(t.disposal.success_probability);
   h.update_f64(t.disposal.target_lifetime_years);
   h.update_u64(t.disposal.deorbit);
+  if (t.catalog_active_lifetime_years > 0.0) h.update_f64(t.catalog_active_lifetime_years);
   h.update_u64(t.launches.size());
   for (const PlannedObject& o : t.launches) {
     h.update_f64(o.epoch_offset_s);
@@ -254,6 +255,7 @@ struct Simulation::State {
   std::int64_t last_checkpoint_step = -1;
   BreakupIds breakups;  // run-level: fragment ids and breakup numbers never repeat in a run
   TrafficState traffic;
+  bool actives_adopted = false;  // the population's own actives joined the lifecycle (adopt_catalog_actives)
 
   CheckpointState snapshot(double wall_s) const {
     CheckpointState c;
@@ -309,6 +311,7 @@ std::unique_ptr<Simulation> Simulation::resume(const SimulationConfig& config, c
   s.last_checkpoint_step = c.step;
   s.breakups = c.breakups;
   s.traffic = c.traffic;
+  s.actives_adopted = true;  // at the fresh run's start, and the checkpoint holds the outcome
   return sim;
 }
 
@@ -409,6 +412,11 @@ Simulation::RunLoop::RunLoop(State& state, EventSink& event_sink, RunControl& ru
 }
 
 RunSummary Simulation::RunLoop::run() {
+  // A fresh run's own active payloads join the lifecycle before anything else happens.
+  if (!s.actives_adopted) {
+    adopt_catalog_actives(cfg.traffic, cfg.seed, s.population, s.traffic);
+    s.actives_adopted = true;
+  }
   try {
     for (;;) {
       const Boundary boundary = at_boundary();

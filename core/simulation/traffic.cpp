@@ -7,6 +7,7 @@
 
 #include "core/physics/atmosphere.hpp"
 #include "core/physics/constants.hpp"
+#include "core/random/counter_random.hpp"
 
 namespace kessler {
 
@@ -53,6 +54,20 @@ bool by_end(const ActiveLife& a, const ActiveLife& b) {
 }
 
 }  // namespace
+
+void adopt_catalog_actives(const TrafficSettings& settings, std::uint64_t seed, Population& population,
+                           TrafficState& state) {
+  if (!settings.enabled || !(settings.catalog_active_lifetime_years > 0.0)) return;
+  const double span_s = settings.catalog_active_lifetime_years * 365.25 * 86400.0;
+  for (std::size_t i = 0; i < population.size(); ++i) {
+    if (population.status[i] != ObjectStatus::kActive || population.type[i] != ObjectType::kPayload) continue;
+    const ObjectId id = population.id[i];
+    const double end_s = span_s * random_uniform(seed, id, RandomPurpose::kRemainingLifetime, 0);
+    const ActiveLife life{id, end_s, population.drag_area_to_mass_m2_kg[i], true};
+    population.drag_area_to_mass_m2_kg[i] = 0.0;
+    state.active.insert(std::upper_bound(state.active.begin(), state.active.end(), life, by_end), life);
+  }
+}
 
 std::vector<LifecycleReport> launch_due(const TrafficSettings& settings, std::int64_t step, double dt_s,
                                         Population& population, TrafficState& state) {

@@ -22,6 +22,10 @@ struct TrafficSettings {
   bool enabled = false;
   std::vector<PlannedObject> launches;  // expand_launch_plan's objects, in epoch order
   DisposalSettings disposal;
+  // The population's own active payloads at the start: each keeps station for a remaining lifetime drawn
+  // uniformly in (0, this] years from (seed, id, kRemainingLifetime), then retires like a launched one.
+  // 0: they are left as they are (active for the whole run, and not station-kept).
+  double catalog_active_lifetime_years = 0.0;
 };
 
 // An operated object while active: end of its operational lifetime, and its own drag area-to-mass
@@ -54,6 +58,11 @@ struct LifecycleReport {
   std::uint64_t row = 0;               // launches: the plan row
   double altitude_m = 0.0;             // disposals: the disposal orbit's altitude
 };
+
+// At the start of a fresh run: the population's active payloads become station-kept actives with drawn
+// remaining lifetimes (TrafficSettings::catalog_active_lifetime_years), by id.
+void adopt_catalog_actives(const TrafficSettings& settings, std::uint64_t seed, Population& population,
+                           TrafficState& state);
 
 // The boundary (steps completed, >= 1) an object launched at epoch_offset_s enters at.
 std::int64_t launch_boundary_step(double epoch_offset_s, double dt_s);

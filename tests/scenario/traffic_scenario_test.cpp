@@ -74,10 +74,14 @@ const Case kRefusals[] = {
      "traffic.enabled: traffic needs the numerical propagator (SGP4 cannot move launched objects, which "
      "have no element sets); set propagator: numerical or leave it out"},
     {"no launches", with_traffic("  enabled: true\n  disposal: {deorbit: true}\n"),
-     "traffic.enabled: no launches: give launch_plan_csv, plans or business_as_usual (enabled: true)"},
+     "traffic.enabled: nothing to do: give launch_plan_csv, plans, business_as_usual (enabled: true) or "
+     "catalog_active_lifetime_years"},
+    {"catalog lifetime", with_traffic("  enabled: true\n  catalog_active_lifetime_years: -1\n"),
+     "traffic.catalog_active_lifetime_years: must be in [0, 100] years, got -1"},
     {"business as usual off is no source",
      with_traffic("  enabled: true\n  business_as_usual: {window_years: 4}\n"),
-     "traffic.enabled: no launches: give launch_plan_csv, plans or business_as_usual (enabled: true)"},
+     "traffic.enabled: nothing to do: give launch_plan_csv, plans, business_as_usual (enabled: true) or "
+     "catalog_active_lifetime_years"},
 };
 
 class TrafficRefusals : public ::testing::TestWithParam<Case> {};

@@ -152,6 +152,40 @@ TEST(TrafficLoop, ASuccessfulDisposalMovesItToItsDisposalOrbit) {
   EXPECT_TRUE(gone->population.empty());
 }
 
+// The population's own active payloads (a catalog's) keep station for a drawn remaining lifetime, then
+// retire as launched ones do; passive ones and actives of other types are left alone.
+TEST(TrafficLoop, TheCatalogsActivePayloadsRetireWithinTheirDrawnLifetimes) {
+  SimulationConfig c = traffic_config(4.0, 60.0, 1);
+  c.traffic.catalog_active_lifetime_years = 0.01;  // 3.65 days at most
+  c.traffic.disposal.success_probability = 0.0;
+  Population p;
+  for (ObjectId id : {11, 12, 13}) {
+    ObjectRecord o;
+    o.id = id;
+    Eigen::Vector3d r, v;
+    OrbitElements el = elements_from_altitudes(600e3, 600e3, 0.9);
+    el.raan_rad = 0.5 * static_cast<double>(id);
+    state_from_elements(el, r, v);
+    o.position_m = r;
+    o.velocity_m_s = v;
+    o.radius_m = 1.0;
+    o.mass_kg = 100.0;
+    o.drag_area_to_mass_m2_kg = 0.02;
+    o.status = id == 13 ? ObjectStatus::kPassive : ObjectStatus::kActive;
+    o.type = id == 12 ? ObjectType::kRocketBody : ObjectType::kPayload;
+    p.add(o);
+  }
+  const auto out = run(c, p);
+  ASSERT_EQ(out->sink.lifecycle.size(), 2u);  // object 11 only: end of life, failed disposal
+  EXPECT_EQ(out->sink.lifecycle[0].kind, LifecycleEventKind::kEndOfLife);
+  EXPECT_EQ(out->sink.lifecycle[0].first_id, 11u);
+  EXPECT_LE(out->sink.lifecycle[0].time_s, 0.01 * 365.25 * kDay_s + 60.0);
+  const std::size_t i = *out->population.index_of(11);
+  EXPECT_EQ(out->population.status[i], ObjectStatus::kPassive);
+  EXPECT_EQ(out->population.drag_area_to_mass_m2_kg[i], 0.02);  // its own drag back
+  EXPECT_EQ(out->population.status[*out->population.index_of(12)], ObjectStatus::kActive);
+}
+
 TEST(TrafficLoop, ThreadsAndAResumeGiveTheSameBits) {
   auto config = [](int threads) {
     SimulationConfig c = traffic_config(2.0, 30.0, threads);
