@@ -199,7 +199,7 @@ void hash_progress(Sha256& h, std::uint64_t seq, const Progress& p) {
 ObjectCounts count_by_type(const Population& p) {
   ObjectCounts c;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    if (p.id[i] >= kFirstFragmentId) {
+    if (p.id[i] >= kFirstFragmentId && p.id[i] < kFirstLaunchId) {
       ++c.fragments;
       continue;
     }

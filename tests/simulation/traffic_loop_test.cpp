@@ -99,6 +99,11 @@ TEST(TrafficLoop, LaunchesEnterAtTheirBoundariesWithTheirIds) {
   }
   EXPECT_EQ(out->population.status[0], ObjectStatus::kPassive);
   EXPECT_EQ(out->population.type[0], ObjectType::kPayload);
+  // Counted by their type, not as breakup fragments (their ids are above the fragments' range too).
+  const RecordedEvent& last = out->sink.events.back();
+  ASSERT_EQ(last.type, 2);
+  EXPECT_EQ(last.progress.objects_by_type.payload, 4u);
+  EXPECT_EQ(last.progress.objects_by_type.fragments, 0u);
 }
 
 TEST(TrafficLoop, AnActivePayloadKeepsStationUntilItsLifeEnds) {
