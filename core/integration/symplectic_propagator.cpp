@@ -38,7 +38,7 @@ using StepArrays = SymplecticPropagator::StepArrays;
 
 // One composed step's coefficients at one time: the force instants of the kicks and the drift and
 // kick lengths (the composition's weights times the step).
-struct StepPlan {
+struct StepPlan {  // NOLINT(bugprone-reserved-identifier): clang-tidy 14 flags the implicit copy's array loop
   ForceInstant f[Composition::kMaxKicks];
   double drift[Composition::kMaxKicks + 1];
   double kick_length[Composition::kMaxKicks];

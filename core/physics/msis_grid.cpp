@@ -152,8 +152,8 @@ MsisDensityGrid::Day MsisDensityGrid::build_day(std::int64_t day) const {
         c[0] += v / kUtSamples;
         for (int m = 1; m <= kUtHarmonics; ++m) {
           const double angle = 2.0 * kPi * m * k / kUtSamples;
-          c[2 * m - 1] += 2.0 * v * std::cos(angle) / kUtSamples;
-          c[2 * m] += 2.0 * v * std::sin(angle) / kUtSamples;
+          c[2 * static_cast<std::size_t>(m) - 1] += 2.0 * v * std::cos(angle) / kUtSamples;
+          c[2 * static_cast<std::size_t>(m)] += 2.0 * v * std::sin(angle) / kUtSamples;
         }
       }
       const std::size_t node = (static_cast<std::size_t>(iq) * kNt + it) * kNu + iu;
@@ -184,8 +184,8 @@ std::shared_ptr<const float[]> MsisDensityGrid::grid_at(double t_s) {
   double w[kCoefficients];
   w[0] = 1.0;
   for (int m = 1; m <= kUtHarmonics; ++m) {
-    w[2 * m - 1] = std::cos(m * angle);
-    w[2 * m] = std::sin(m * angle);
+    w[2 * static_cast<std::size_t>(m) - 1] = std::cos(m * angle);
+    w[2 * static_cast<std::size_t>(m)] = std::sin(m * angle);
   }
   std::shared_ptr<float[]> grid(new float[kNodes]);  // every element written below
   const float* c = d.coefficients.data();
