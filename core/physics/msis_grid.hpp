@@ -8,19 +8,21 @@
 //    sqrt(km): 124 nodes from 90 to 2511 km, 6 km apart at 150 km, 40 km at 2500 km (ln rho bends most
 //    low down); below 90 km the 90 km value, above the top the last cell's slope continues;
 //  - latitude (geocentric) through the pseudo-angle q = z / (sqrt(x^2 + y^2) + |z|) in [-1, 1], monotone
-//    in latitude: 36 cells, at most 6.4 deg wide;
+//    in latitude: 64 cells, at most 3.6 deg wide;
 //  - local solar time through the pseudo-angle of the position's direction in the equatorial plane
 //    relative to the Sun's (along = r . s, across = r x s, diamond angle in [0, 4), 0 at local noon):
-//    32 cells, at most 1.5 h wide.
+//    80 cells, at most 0.4 h wide.
 // ln rho is interpolated trilinearly in (u, q, p) and rho = exp of it (deterministic_exp).
 //
 // Time: the model's solar inputs, day of year and UT terms. For each UTC day the grid's nodes are
-// evaluated at 5 UT samples (0, 4.8, ..., 19.2 h; the solar inputs of the day, SpaceWeather) and stored
-// as a trigonometric series in UT (mean and 2 harmonics: the model's UT and longitude terms are first
-// harmonics of UT at fixed latitude and local time). The grid a force evaluation reads is the series at
-// the middle of its 60 s slot of UTC. The model's own day-to-day jumps (daily F10.7, Ap, day of year)
-// stay at midnight UTC. Building a day costs ~5 x 151,000 profile evaluations (one set of expansions per
-// column, nrlmsise00::ColumnTerms), shared out between OpenMP threads; a slot, one pass over the nodes.
+// evaluated at 7 UT samples (the day's solar inputs, SpaceWeather) and stored as a trigonometric series
+// in UT (mean and 3 harmonics: the model's UT and longitude terms are harmonics of UT at fixed latitude
+// and local time). The grid a force evaluation reads is the series at the middle of its 120 s slot of
+// UTC. The model's own day-to-day jumps (daily F10.7, Ap, day of year) stay at midnight UTC.
+//
+// Building a day: the full model on a sub-lattice (every 3rd altitude, every 2nd local time: 7 x 2,600
+// columns' expansions, nrlmsise00::ColumnTerms, and 764,000 profiles), the nodes between filled by
+// cubic interpolation (msis_grid.cpp), shared out between OpenMP threads; a slot, one pass over the nodes.
 //
 // Measured interpolation error against the full model: tests/atmosphere/msis_grid_test.cpp and
 // core/physics/README.md.

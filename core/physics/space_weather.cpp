@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
@@ -180,12 +181,14 @@ SpaceWeather SpaceWeather::load(const std::string& path) {
   return parse(buffer.str(), slash == std::string::npos ? path : path.substr(slash + 1));
 }
 
-std::shared_ptr<const SpaceWeather> SpaceWeather::bundled() {
-  static std::once_flag once;
-  static std::shared_ptr<const SpaceWeather> table;
-  std::call_once(once, [] {
-    table = std::make_shared<const SpaceWeather>(load(default_datasets_dir() + "/space_weather/SW-All.csv"));
-  });
+std::shared_ptr<const SpaceWeather> SpaceWeather::bundled() { return in_datasets(default_datasets_dir()); }
+
+std::shared_ptr<const SpaceWeather> SpaceWeather::in_datasets(const std::string& datasets_dir) {
+  static std::mutex mutex;
+  static std::map<std::string, std::shared_ptr<const SpaceWeather>> tables;
+  const std::lock_guard<std::mutex> lock(mutex);
+  auto& table = tables[datasets_dir];
+  if (!table) table = std::make_shared<const SpaceWeather>(load(datasets_dir + "/space_weather/SW-All.csv"));
   return table;
 }
 

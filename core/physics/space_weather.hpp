@@ -58,6 +58,8 @@ class SpaceWeather {
   static SpaceWeather load(const std::string& path);
   // deploy/datasets/space_weather/SW-All.csv under default_datasets_dir(), loaded once and shared.
   static std::shared_ptr<const SpaceWeather> bundled();
+  // <datasets_dir>/space_weather/SW-All.csv, loaded once per directory and shared; throws as load().
+  static std::shared_ptr<const SpaceWeather> in_datasets(const std::string& datasets_dir);
 
   // The inputs on UTC day `day` (day_number) in the given mode.
   DailySolarActivity on_day(std::int64_t day, const SolarActivitySettings& settings) const;

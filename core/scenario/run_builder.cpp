@@ -7,6 +7,7 @@
 #include <set>
 
 #include "core/catalog/bundled_datasets.hpp"
+#include "core/physics/space_weather.hpp"
 #include "core/catalog/leo19647.hpp"
 #include "core/catalog/state_table.hpp"
 #include "core/catalog/synthetic.hpp"
@@ -180,6 +181,14 @@ std::optional<FieldError> config_of(const v1::Scenario& scenario, const BuildOpt
   if (auto e = traffic_launches_of(scenario, config, {options.traffic_dir, options.datasets_dir},
                                    config.traffic.launches))
     return e;
+  if (config.force_model.atmosphere == AtmosphereModel::kNrlmsise00 &&
+      config.force_model.solar_activity.mode != SolarActivityMode::kConstant) {
+    try {
+      config.force_model.space_weather = SpaceWeather::in_datasets(options.datasets_dir);
+    } catch (const std::exception& e) {
+      return FieldError{"force_model.solar_activity", e.what()};
+    }
+  }
   if (!options.checkpoints) {
     config.checkpoint_every_steps = 0;
     config.checkpoint_every_wall_s = 0.0;

@@ -2,6 +2,7 @@
 // resume bit for bit, refusals before anything runs.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <map>
 #include <optional>
 
@@ -247,6 +248,41 @@ population:
   FieldError error;
   EXPECT_FALSE(build_simulation(s, options, &error));
   EXPECT_EQ(error.path, "population");
+}
+
+// NRLMSISE-00's solar activity is read from the run's own datasets directory (kesslerd --datasets,
+// kessler run --datasets): a directory without a space weather table refuses the scenario, naming the
+// field; the constant mode needs no table.
+TEST(RunBuilder, SolarActivityComesFromTheRunsDatasets) {
+  const std::string dir = testing::TempDir() + "/kessler_datasets_without_space_weather";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::filesystem::copy(std::string(KESSLER_DATASETS_DIR) + "/leo-19647", dir + "/leo-19647",
+                        std::filesystem::copy_options::recursive);
+  BuildOptions options;
+  options.datasets_dir = dir;
+  v1::Scenario observed;
+  ASSERT_FALSE(parse_scenario(R"(
+population: {dataset: leo-19647, max_objects: 10}
+duration_days: 0.01
+conjunctions: {enabled: false}
+force_model: {atmosphere: nrlmsise00, solar_activity: {mode: observed}}
+)",
+                              observed));
+  FieldError error;
+  EXPECT_FALSE(build_simulation(observed, options, &error));
+  EXPECT_EQ(error.path, "force_model.solar_activity");
+  EXPECT_NE(error.reason.find("SW-All.csv"), std::string::npos) << error.reason;
+
+  v1::Scenario constant = observed;
+  constant.mutable_force_model()->mutable_solar_activity()->set_mode(v1::SOLAR_ACTIVITY_MODE_CONSTANT);
+  EXPECT_TRUE(build_simulation(constant, options, &error)) << error.message();
+
+  std::filesystem::create_directories(dir + "/space_weather");
+  std::filesystem::copy_file(std::string(KESSLER_DATASETS_DIR) + "/space_weather/SW-All.csv",
+                             dir + "/space_weather/SW-All.csv");
+  EXPECT_TRUE(build_simulation(observed, options, &error)) << error.message();
+  std::filesystem::remove_all(dir);
 }
 
 // Every record of a catalog is kept or dropped for one reason: records == kept + the drops.
