@@ -15,7 +15,9 @@ namespace kessler::server {
 
 namespace {
 
-Eigen::Vector3d vector_of(const v1::Vector3& v) { return {v.x(), v.y(), v.z()}; }
+Eigen::Vector3d vector_of(const v1::Vector3& v) {
+  return {v.x(), v.y(), v.z()};
+}
 
 Encounter core_encounter(const v1::Encounter& e) {
   Encounter out;
@@ -131,7 +133,8 @@ v1::ListConjunctionsResponse assessed_conjunctions(Store& store, const v1::ListC
   sort_rows(rows, key);
   const std::size_t page_size =
       static_cast<std::size_t>(request.page_size() <= 0 ? 1000 : std::min(request.page_size(), 100000));
-  const std::size_t begin = std::min(rows.size(), static_cast<std::size_t>(std::max<std::int64_t>(offset, 0)));
+  const std::size_t begin =
+      std::min(rows.size(), static_cast<std::size_t>(std::max<std::int64_t>(offset, 0)));
   const std::size_t end = std::min(rows.size(), begin + page_size);
   for (std::size_t i = begin; i < end; ++i) *response.add_conjunctions() = std::move(rows[i]);
   if (end < rows.size()) response.set_next_page_token(std::to_string(end));
@@ -142,18 +145,22 @@ v1::ListConjunctionsResponse assessed_conjunctions(Store& store, const v1::ListC
 v1::ConjunctionCdm conjunction_cdm(const v1::Encounter& e, std::int64_t run_id, const UtcEpoch& start_epoch,
                                    const std::string& format) {
   const std::string kind = format.empty() ? "kvn" : format;
-  if (kind != "kvn" && kind != "xml") throw std::invalid_argument("format: must be kvn or xml, got '" + format + "'");
+  if (kind != "kvn" && kind != "xml")
+    throw std::invalid_argument("format: must be kvn or xml, got '" + format + "'");
   assessment::CdmExportOptions options;
   options.message_id = "KESSLER_RUN" + std::to_string(run_id) + "_SEQ" + std::to_string(e.seq());
   options.scenario_epoch = start_epoch;
-  const double now_s = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  const double now_s =
+      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   options.creation_date = UtcEpoch::from_calendar(1970, 1, 1, 0, 0, 0.0).plus_seconds(std::floor(now_s));
-  const assessment::Cdm cdm = assessment::cdm_from_encounter(core_encounter(e), {e.id1(), e.name1(), context_of(e.name1())},
-                                                             {e.id2(), e.name2(), context_of(e.name2())}, options);
+  const assessment::Cdm cdm =
+      assessment::cdm_from_encounter(core_encounter(e), {e.id1(), e.name1(), context_of(e.name1())},
+                                     {e.id2(), e.name2(), context_of(e.name2())}, options);
   v1::ConjunctionCdm out;
   out.set_seq(e.seq());
   out.set_format(kind);
-  out.set_file_name("run" + std::to_string(run_id) + "_seq" + std::to_string(e.seq()) + (kind == "xml" ? ".xml" : ".cdm"));
+  out.set_file_name("run" + std::to_string(run_id) + "_seq" + std::to_string(e.seq()) +
+                    (kind == "xml" ? ".xml" : ".cdm"));
   out.set_text(kind == "xml" ? assessment::write_cdm_xml(cdm) : assessment::write_cdm_kvn(cdm));
   return out;
 }
@@ -162,11 +169,12 @@ v1::ConjunctionCdm RunManager::conjunction_cdm(const v1::GetConjunctionCdmReques
   const v1::Run run = get(request.run_id());  // NOT_FOUND
   const std::optional<v1::Encounter> encounter = store_.conjunction(request.run_id(), request.seq());
   if (!encounter)
-    throw ServiceError(ServiceError::Code::kNotFound, "run " + std::to_string(request.run_id()) + " has no conjunction with seq " +
-                                            std::to_string(request.seq()));
+    throw ServiceError(ServiceError::Code::kNotFound, "run " + std::to_string(request.run_id()) +
+                                                          " has no conjunction with seq " +
+                                                          std::to_string(request.seq()));
   try {
-    return server::conjunction_cdm(*encounter, request.run_id(), to_simulation_config(run.scenario()).start_epoch,
-                                   request.format());
+    return server::conjunction_cdm(*encounter, request.run_id(),
+                                   to_simulation_config(run.scenario()).start_epoch, request.format());
   } catch (const std::invalid_argument& e) {
     throw ServiceError(ServiceError::Code::kInvalidArgument, e.what(), "format");
   }

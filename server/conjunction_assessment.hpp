@@ -10,8 +10,8 @@
 #include <cstdint>
 #include <string>
 
-#include "kessler/v1/service.pb.h"
 #include "core/time/epoch.hpp"
+#include "kessler/v1/service.pb.h"
 #include "server/store.hpp"
 
 namespace kessler::server {

@@ -53,11 +53,12 @@ bool read_text(const std::string& path, std::string& text, std::string& error) {
 void print_json(const assessment::CdmConjunction& c, const assessment::Assessment& a, double hbr_m,
                 const std::vector<assessment::CdmError>& problems) {
   std::cout << "{\"pc\": " << (a.pc_computed ? number_or_null(a.pc) : "null") << ", \"method\": \""
-            << assessment::method_name(a.method) << "\", \"cdm_pc\": "
-            << (c.cdm_pc ? number_or_null(*c.cdm_pc) : "null") << ", \"cdm_pc_method\": \""
-            << json_escape(c.cdm_pc_method) << "\", \"hbr_m\": " << number_or_null(hbr_m)
-            << ", \"pc_max\": " << number_or_null(a.pc_max) << ", \"pc_max_sigma_m\": "
-            << number_or_null(a.pc_max_sigma_m) << ", \"short_encounter\": " << (a.short_encounter ? "true" : "false")
+            << assessment::method_name(a.method)
+            << "\", \"cdm_pc\": " << (c.cdm_pc ? number_or_null(*c.cdm_pc) : "null")
+            << ", \"cdm_pc_method\": \"" << json_escape(c.cdm_pc_method)
+            << "\", \"hbr_m\": " << number_or_null(hbr_m) << ", \"pc_max\": " << number_or_null(a.pc_max)
+            << ", \"pc_max_sigma_m\": " << number_or_null(a.pc_max_sigma_m)
+            << ", \"short_encounter\": " << (a.short_encounter ? "true" : "false")
             << ", \"encounter_duration_s\": " << number_or_null(a.encounter_duration_s) << ", \"tca\": \""
             << json_escape(c.tca) << "\", \"miss_distance_m\": " << number_or_null(c.miss_distance_m)
             << ", \"object1\": \"" << json_escape(c.objects[0].name) << "\", \"object2\": \""
@@ -68,14 +69,15 @@ void print_json(const assessment::CdmConjunction& c, const assessment::Assessmen
 }
 
 void print_text(const assessment::CdmConjunction& c, const assessment::Assessment& a, double hbr_m) {
-  std::printf("%s vs %s at %s, miss %.1f m, HBR %.3f m\n", c.objects[0].name.c_str(), c.objects[1].name.c_str(),
-              c.tca.c_str(), c.miss_distance_m, hbr_m);
+  std::printf("%s vs %s at %s, miss %.1f m, HBR %.3f m\n", c.objects[0].name.c_str(),
+              c.objects[1].name.c_str(), c.tca.c_str(), c.miss_distance_m, hbr_m);
   if (a.pc_computed)
     std::printf("pc      %.6e (%s)\n", a.pc, std::string(assessment::method_name(a.method)).c_str());
   else
     std::printf("pc      not computed\n");
   if (c.cdm_pc)
-    std::printf("cdm_pc  %.6e (%s)\n", *c.cdm_pc, c.cdm_pc_method.empty() ? "method not given" : c.cdm_pc_method.c_str());
+    std::printf("cdm_pc  %.6e (%s)\n", *c.cdm_pc,
+                c.cdm_pc_method.empty() ? "method not given" : c.cdm_pc_method.c_str());
   else
     std::printf("cdm_pc  none in the message\n");
   std::printf("pc_max  %.6e at a radial sigma of %.1f m (SOCRATES shape 100/300/100 m)\n", a.pc_max,
@@ -86,7 +88,8 @@ void print_text(const assessment::CdmConjunction& c, const assessment::Assessmen
 }
 
 int assess_file(const AssessOptions& o, const GlobalOptions& global) {
-  if (!global.output.empty() && global.output != "json" && global.output != "table" && global.output != "text")
+  if (!global.output.empty() && global.output != "json" && global.output != "table" &&
+      global.output != "text")
     return usage_error("assess", "--output: must be table or json, got '" + global.output + "'");
   if (o.method != "foster" && o.method != "chan")
     return usage_error("assess", "--method: must be foster or chan, got '" + o.method + "'");
@@ -107,7 +110,8 @@ int assess_file(const AssessOptions& o, const GlobalOptions& global) {
   for (const auto& p : problems) std::cerr << "kessler assess: " << o.file << ": " << p.message << "\n";
   const double hbr_m = assessment::choose_hard_body_radius(conjunction, o.hbr_m);
   if (!(hbr_m > 0.0)) {
-    std::cerr << "kessler assess: " << o.file << ": no hard-body radius in the message (no HBR, no AREA_PC): give --hbr\n";
+    std::cerr << "kessler assess: " << o.file
+              << ": no hard-body radius in the message (no HBR, no AREA_PC): give --hbr\n";
     return kExitUsage;
   }
   const assessment::Assessment a = assessment::assess_cdm(
@@ -124,10 +128,13 @@ int assess_file(const AssessOptions& o, const GlobalOptions& global) {
 CommandRun setup_assess(CLI::App& command, GlobalOptions& global) {
   auto o = std::make_shared<AssessOptions>();
   command.add_option("FILE", o->file, "a CDM, KVN or XML (CCSDS 508.0-B-1)")->required();
-  command.add_option("--hbr", o->hbr_m, "hard-body radius r1 + r2 in metres (default: the CDM's, else from AREA_PC)")
+  command
+      .add_option("--hbr", o->hbr_m,
+                  "hard-body radius r1 + r2 in metres (default: the CDM's, else from AREA_PC)")
       ->option_text("METRES")
       ->check(positive_number());
-  command.add_option("--method", o->method, "foster (default; the reference integral) or chan (Chan's series)");
+  command.add_option("--method", o->method,
+                     "foster (default; the reference integral) or chan (Chan's series)");
   add_global_options(command, global, "table (default) or json (one object: pc, method, cdm_pc, ...)", false);
   command.footer(
       "Reads a Conjunction Data Message and recomputes its 2-D collision probability from the two objects' "

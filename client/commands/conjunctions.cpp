@@ -79,12 +79,15 @@ void print_json(const std::vector<v1::Encounter>& rows, const std::string& epoch
   std::cout << "]\n";
 }
 
-std::string optional_number(bool has, double v) { return has ? json_number(v) : ""; }
+std::string optional_number(bool has, double v) {
+  return has ? json_number(v) : "";
+}
 
 // The names, then the probabilities come last so the columns before them stay where scripts expect them.
 void print_csv(const std::vector<v1::Encounter>& rows, const std::string& epoch) {
-  std::cout << "seq,kind,id1,id2,tca_s,tca_utc,miss_distance_m,kappa,relative_speed_m_s,name1,name2,pc,pc_method,"
-               "covariance_source,pc_max,pc_max_sigma_m\n";
+  std::cout
+      << "seq,kind,id1,id2,tca_s,tca_utc,miss_distance_m,kappa,relative_speed_m_s,name1,name2,pc,pc_method,"
+         "covariance_source,pc_max,pc_max_sigma_m\n";
   for (const auto& c : rows)
     std::cout << c.seq() << "," << kind_name(c.kind()) << "," << c.id1() << "," << c.id2() << ","
               << json_number(c.tca_s()) << "," << format_sim_time(epoch, c.tca_s()) << ","
@@ -154,7 +157,8 @@ int write_cdms(RemoteClient& client, const ConjunctionsOptions& o, const std::ve
 int list_conjunctions(const ConjunctionsOptions& o, const GlobalOptions& global) {
   const bool cdm = global.output == "cdm";
   OutputFormat format = OutputFormat::kTable;
-  if (!cdm && !resolve_output("conjunctions", global.output, {"table", "csv", "json"}, format)) return kExitUsage;
+  if (!cdm && !resolve_output("conjunctions", global.output, {"table", "csv", "json"}, format))
+    return kExitUsage;
   if (o.cdm_format != "kvn" && o.cdm_format != "xml")
     return usage_error("conjunctions", "--cdm-format: must be kvn or xml, got '" + o.cdm_format + "'");
   v1::ListConjunctionsRequest request = request_of(o);
@@ -207,8 +211,10 @@ CommandRun setup_conjunctions(CLI::App& command, GlobalOptions& global) {
   command.add_option("--sort", o->sort, "seq (default), pc or pc_max (largest first), miss (closest first)")
       ->option_text("KEY");
   command.add_option("--limit", o->limit, "at most N rows (default: all)")->option_text("N");
-  command.add_option("--dir", o->dir, "with --output cdm: the folder for the CDM files (default .)")->option_text("D");
-  command.add_option("--cdm-format", o->cdm_format, "with --output cdm: kvn (default) or xml")->option_text("F");
+  command.add_option("--dir", o->dir, "with --output cdm: the folder for the CDM files (default .)")
+      ->option_text("D");
+  command.add_option("--cdm-format", o->cdm_format, "with --output cdm: kvn (default) or xml")
+      ->option_text("F");
   add_global_options(command, global,
                      "table (default), csv (a header row, then one row per encounter) or json (an array of "
                      "objects with the CSV's columns as keys and both objects' states at TCA), or cdm (one "

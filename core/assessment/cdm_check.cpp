@@ -77,7 +77,8 @@ std::string_view expected_unit(std::string_view k) {
     };
     const int ia = axis(a);
     const int ib = axis(b);
-    if (ia >= 0 && ib >= 0) return kByVelocityCount[static_cast<std::size_t>(ia + ib)];
+    if (ia >= 0 && ib >= 0)
+      return kByVelocityCount[static_cast<std::size_t>(ia) + static_cast<std::size_t>(ib)];
   }
   return {};
 }

@@ -85,7 +85,7 @@ Cdm cdm_from_encounter(const Encounter& e, const CdmObjectInfo& o1, const CdmObj
         "m/s");
   if (a.pc_computed) {
     add(rel, "COLLISION_PROBABILITY", format("%.6e", a.pc));
-    add(rel, "COLLISION_PROBABILITY_METHOD", "CHAN-1997");
+    add(rel, "COLLISION_PROBABILITY_METHOD", a.method == PcMethod::kFoster ? "FOSTER-1992" : "CHAN-1997");
   }
   const double age_days = e.tca_s / 86400.0;
   add_object(
