@@ -147,7 +147,8 @@ CallResult RemoteClient::conjunctions(const v1::ListConjunctionsRequest& request
   return unary(*impl_->stub, &v1::KesslerService::Stub::ListConjunctions, request, out);
 }
 
-CallResult RemoteClient::conjunction_cdm(const v1::GetConjunctionCdmRequest& request, v1::ConjunctionCdm& out) {
+CallResult RemoteClient::conjunction_cdm(const v1::GetConjunctionCdmRequest& request,
+                                         v1::ConjunctionCdm& out) {
   return unary(*impl_->stub, &v1::KesslerService::Stub::GetConjunctionCdm, request, out);
 }
 
