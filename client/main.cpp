@@ -9,6 +9,7 @@
 namespace kessler::cli {
 
 CommandRun setup_run(CLI::App& command, GlobalOptions& global);
+CommandRun setup_assess(CLI::App& command, GlobalOptions& global);
 #ifdef KESSLER_CLI_REMOTE
 CommandRun setup_submit(CLI::App& command, GlobalOptions& global);
 CommandRun setup_watch(CLI::App& command, GlobalOptions& global);
@@ -27,12 +28,14 @@ namespace {
 // Every command, in the order of the help listing.
 const CommandSpec kCommands[] = {
     {"run", "run a scenario in this process (--local) and print its events and fingerprint", setup_run},
+    {"assess", "a CDM's collision probability recomputed from its states and covariances", setup_assess},
 #ifdef KESSLER_CLI_REMOTE
     {"submit", "queue a run of a scenario on kesslerd (and follow it with --watch)", setup_submit},
     {"watch", "follow a run live: progress, events, summary", setup_watch},
     {"runs", "list runs", setup_runs},
     {"show", "a run's scenario, ingest report, state, timers and conjunction counts by kappa", setup_show},
-    {"conjunctions", "a run's conjunctions, filtered (kappa, object, time, collisions, closest per pair)",
+    {"conjunctions",
+     "a run's conjunctions, filtered (kappa, object, time, collisions, closest per pair, Pc), or CDMs",
      setup_conjunctions},
     {"fragments", "the fragments a run's breakups made (parent, Lc, A/m, mass, dv)", setup_fragments},
     {"cancel", "cancel a queued or running run", setup_cancel},

@@ -83,6 +83,10 @@ class Service final : public v1::KesslerService::Service {
                                 v1::ListConjunctionsResponse* out) override {
     return guarded(c, [&] { *out = m_.conjunctions(*r); });
   }
+  grpc::Status GetConjunctionCdm(grpc::ServerContext* c, const v1::GetConjunctionCdmRequest* r,
+                                 v1::ConjunctionCdm* out) override {
+    return guarded(c, [&] { *out = m_.conjunction_cdm(*r); });
+  }
   grpc::Status GetRunStats(grpc::ServerContext* c, const v1::GetRunStatsRequest* r,
                            v1::RunStats* out) override {
     return guarded(c, [&] { *out = m_.stats(*r); });

@@ -15,6 +15,7 @@
 #include <google/protobuf/message.h>
 
 #include "core/scenario/run_builder.hpp"
+#include "server/conjunction_assessment.hpp"
 #include "server/event_relay.hpp"
 
 namespace kessler::server {
@@ -365,17 +366,12 @@ v1::ListConjunctionsResponse RunManager::conjunctions(const v1::ListConjunctions
     throw ServiceError(Code::kInvalidArgument, "kappa_min: above kappa_max", "kappa_min");
   if (request.has_time_min_s() && request.has_time_max_s() && request.time_min_s() > request.time_max_s())
     throw ServiceError(Code::kInvalidArgument, "time_min_s: after time_max_s", "time_min_s");
-  Page<v1::Encounter> page;
   try {
-    page = store_.list_conjunctions(request);
+    return assessed_conjunctions(store_, request);  // server/conjunction_assessment.cpp
   } catch (const std::invalid_argument& e) {
-    throw ServiceError(Code::kInvalidArgument, e.what(), "page_token");
+    const std::string message = e.what();
+    throw ServiceError(Code::kInvalidArgument, message, message.substr(0, message.find(':')));
   }
-  v1::ListConjunctionsResponse response;
-  for (auto& c : page.items) *response.add_conjunctions() = std::move(c);
-  response.set_next_page_token(page.next_token);
-  response.set_total(page.total);
-  return response;
 }
 
 v1::RunStats RunManager::stats(const v1::GetRunStatsRequest& request) {

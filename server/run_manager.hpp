@@ -88,6 +88,8 @@ class RunManager {
   v1::Run cancel(std::int64_t run_id);
   void remove(std::int64_t run_id);
   v1::ListConjunctionsResponse conjunctions(const v1::ListConjunctionsRequest& request);
+  // One conjunction as a CDM (server/conjunction_assessment.cpp).
+  v1::ConjunctionCdm conjunction_cdm(const v1::GetConjunctionCdmRequest& request);
   v1::RunStats stats(const v1::GetRunStatsRequest& request);
   v1::ListFragmentsResponse fragments(const v1::ListFragmentsRequest& request);
 

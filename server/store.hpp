@@ -152,6 +152,8 @@ class Store {
   std::optional<StoredCheckpoint> latest_checkpoint(std::int64_t run_id);
 
   Page<v1::Encounter> list_conjunctions(const v1::ListConjunctionsRequest& request);
+  // One conjunction (kind encounter) by sequence number, with names; empty when there is none.
+  std::optional<v1::Encounter> conjunction(std::int64_t run_id, std::uint64_t seq);
   v1::RunStats run_stats(const v1::GetRunStatsRequest& request, double run_length_s);
   // By fragment id; the page token is the offset (std::invalid_argument for a token not from a page).
   Page<v1::Fragment> list_fragments(const v1::ListFragmentsRequest& request);

@@ -147,6 +147,11 @@ CallResult RemoteClient::conjunctions(const v1::ListConjunctionsRequest& request
   return unary(*impl_->stub, &v1::KesslerService::Stub::ListConjunctions, request, out);
 }
 
+CallResult RemoteClient::conjunction_cdm(const v1::GetConjunctionCdmRequest& request,
+                                         v1::ConjunctionCdm& out) {
+  return unary(*impl_->stub, &v1::KesslerService::Stub::GetConjunctionCdm, request, out);
+}
+
 CallResult RemoteClient::stats(const v1::GetRunStatsRequest& request, v1::RunStats& out) {
   return unary(*impl_->stub, &v1::KesslerService::Stub::GetRunStats, request, out);
 }

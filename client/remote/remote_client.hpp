@@ -37,6 +37,7 @@ class RemoteClient {
   CallResult cancel(std::int64_t run_id, v1::Run& out);
   CallResult remove(std::int64_t run_id);
   CallResult conjunctions(const v1::ListConjunctionsRequest& request, v1::ListConjunctionsResponse& out);
+  CallResult conjunction_cdm(const v1::GetConjunctionCdmRequest& request, v1::ConjunctionCdm& out);
   CallResult stats(const v1::GetRunStatsRequest& request, v1::RunStats& out);
   CallResult fragments(const v1::ListFragmentsRequest& request, v1::ListFragmentsResponse& out);
   CallResult submit_ensemble(const v1::SubmitEnsembleRequest& request, v1::EnsembleReport& out);

@@ -252,8 +252,8 @@ TEST_F(Reflection, TheApiRebuiltFromReflectedDescriptorsAnswersCalls) {
   std::set<std::string> methods;
   for (int i = 0; i < service->method_count(); ++i) methods.insert(service->method(i)->name());
   EXPECT_EQ(methods, (std::set<std::string>{"SubmitRun", "GetRun", "ListRuns", "CancelRun", "DeleteRun",
-                                            "WatchRun", "ListConjunctions", "GetRunStats", "ListFragments",
-                                            "SubmitEnsemble", "GetEnsemble", "ListEnsembles",
+                                            "WatchRun", "ListConjunctions", "GetConjunctionCdm", "GetRunStats",
+                                            "ListFragments", "SubmitEnsemble", "GetEnsemble", "ListEnsembles",
                                             "CancelEnsemble"}));
   const auto* watch = service->FindMethodByName("WatchRun");
   ASSERT_NE(watch, nullptr);

@@ -8,6 +8,7 @@
 #include <sqlite3.h>
 
 #include <chrono>
+#include <filesystem>
 #include <future>
 #include <map>
 #include <set>
@@ -271,6 +272,27 @@ TEST(ServiceEndToEnd, SubmitWatchListQueryAndRestartMatchAnInProcessRun) {
     if (c.kind() != v1::ENCOUNTER_KIND_EVASION) distinct.insert({c.id1(), c.id2()});
   EXPECT_EQ(count_lines(pairs.out), distinct.size() + 1);
 
+  // Collision probability: sorted largest first, filtered, written as CDMs that `assess` reads back.
+  auto by_pc = cli(dir, "conjunctions 1 --sort pc --output csv" + server);
+  EXPECT_EQ(by_pc.exit_code, 0) << by_pc.err;
+  EXPECT_EQ(count_lines(by_pc.out), n_conj + 1);
+  EXPECT_NE(by_pc.out.find(",pc,pc_method,covariance_source,pc_max,pc_max_sigma_m\n"), std::string::npos);
+  auto none = cli(dir, "conjunctions 1 --pc-min 1 --output csv" + server);
+  EXPECT_EQ(count_lines(none.out), 1u) << none.out;
+  EXPECT_EQ(cli(dir, "conjunctions 1 --sort probability" + server).exit_code, 2);
+  const std::string cdm_dir = dir.path() + "/cdms";
+  auto cdms = cli(dir, "conjunctions 1 --sort pc --limit 2 --output cdm --dir " + cdm_dir + server);
+  EXPECT_EQ(cdms.exit_code, 0) << cdms.err;
+  std::size_t written = 0;
+  for (const auto& file : std::filesystem::directory_iterator(cdm_dir)) {
+    ++written;
+    auto assessed = cli(dir, "assess " + file.path().string() + " --output json");
+    EXPECT_EQ(assessed.exit_code, 0) << assessed.err << assessed.out;
+    EXPECT_EQ(assessed.out.rfind("{\"pc\": ", 0), 0u) << assessed.out;
+    EXPECT_NE(assessed.out.find("\"cdm_pc\": "), std::string::npos) << assessed.out;
+  }
+  EXPECT_EQ(written, 2u);
+
   // Restart: the run and its conjunctions are still there.
   EXPECT_EQ(daemon->terminate(), 0) << daemon->log();
   daemon = std::make_unique<Daemon>(dir.path() + "/k.db");
@@ -327,7 +349,7 @@ TEST(ServiceEndToEnd, IngestReportAndObjectNamesReachTheCli) {
   EXPECT_NE(table.out.find("TIROS 1"), std::string::npos) << table.out;
   EXPECT_NE(table.out.find("KESSLER TWIN"), std::string::npos) << table.out;
   auto csv = cli(dir, "conjunctions 1 --output csv" + server);
-  EXPECT_NE(csv.out.find(",TIROS 1,KESSLER TWIN\n"), std::string::npos) << csv.out;
+  EXPECT_NE(csv.out.find(",TIROS 1,KESSLER TWIN,"), std::string::npos) << csv.out;
   auto json = cli(dir, "conjunctions 1 --output json" + server);
   EXPECT_NE(json.out.find("\"name1\": \"TIROS 1\", \"name2\": \"KESSLER TWIN\""), std::string::npos)
       << json.out;
