@@ -63,8 +63,8 @@ CLI::App* named_command(CLI::App& app) {
 std::string first_word(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     std::string arg = argv[i];
-    if (arg == "--server" || arg == "--output" || arg == "--token" || arg == "--tls-ca" || arg == "--tls-cert" ||
-        arg == "--tls-key") {
+    if (arg == "--server" || arg == "--output" || arg == "--token" || arg == "--tls-ca" ||
+        arg == "--tls-cert" || arg == "--tls-key") {
       ++i;
       continue;
     }
@@ -78,15 +78,23 @@ std::string first_word(int argc, char** argv) {
 namespace {
 
 void add_connection_options(CLI::App& command, GlobalOptions& global) {
-  command.add_option("--server", global.server, "kesslerd to talk to (default $KESSLER_SERVER, else 127.0.0.1:50051)")
+  command
+      .add_option("--server", global.server,
+                  "kesslerd to talk to (default $KESSLER_SERVER, else 127.0.0.1:50051)")
       ->option_text("HOST:PORT");
-  command.add_option("--token", global.token, "bearer token for a daemon with tokens (default $KESSLER_TOKEN)")
+  command
+      .add_option("--token", global.token, "bearer token for a daemon with tokens (default $KESSLER_TOKEN)")
       ->option_text("TOKEN");
-  command.add_option("--tls-ca", global.tls_ca, "connect over TLS, trusting this PEM CA (default $KESSLER_TLS_CA)")
+  command
+      .add_option("--tls-ca", global.tls_ca,
+                  "connect over TLS, trusting this PEM CA (default $KESSLER_TLS_CA)")
       ->option_text("FILE");
-  command.add_option("--tls-cert", global.tls_cert, "client certificate for mutual TLS (default $KESSLER_TLS_CERT)")
+  command
+      .add_option("--tls-cert", global.tls_cert,
+                  "client certificate for mutual TLS (default $KESSLER_TLS_CERT)")
       ->option_text("FILE");
-  command.add_option("--tls-key", global.tls_key, "its private key (default $KESSLER_TLS_KEY)")->option_text("FILE");
+  command.add_option("--tls-key", global.tls_key, "its private key (default $KESSLER_TLS_KEY)")
+      ->option_text("FILE");
 }
 
 }  // namespace

@@ -81,7 +81,8 @@ class WarningInterceptor final : public grpc::experimental::Interceptor {
  public:
   explicit WarningInterceptor(const std::string& warning) : warning_(warning) {}
   void Intercept(grpc::experimental::InterceptorBatchMethods* methods) override {
-    if (methods->QueryInterceptionHookPoint(grpc::experimental::InterceptionHookPoints::PRE_SEND_INITIAL_METADATA))
+    if (methods->QueryInterceptionHookPoint(
+            grpc::experimental::InterceptionHookPoints::PRE_SEND_INITIAL_METADATA))
       methods->GetSendInitialMetadata()->emplace("kessler-warning", warning_);
     methods->Proceed();
   }
@@ -103,7 +104,8 @@ class WarningInterceptorFactory final : public grpc::experimental::ServerInterce
 
 class Service final : public v1::KesslerService::Service {
  public:
-  Service(RunManager& manager, const ApiOptions& options) : m_(manager), guard_(options.auth, options.limits) {}
+  Service(RunManager& manager, const ApiOptions& options)
+      : m_(manager), guard_(options.auth, options.limits) {}
 
   grpc::Status SubmitRun(grpc::ServerContext* c, const v1::SubmitRunRequest* r, v1::Run* out) override {
     return guard_(c, Role::kSubmit, [&](const Caller& who) {
@@ -191,7 +193,8 @@ class Service final : public v1::KesslerService::Service {
       validate(*r);
       guard_.limits().take_request(who);
       if (r->request_id().empty() || !m_.store().ensemble_of_request(who.name, r->request_id()))
-        guard_.limits().check_runs(who, m_.store().active_runs_of(who.name), std::max<std::uint64_t>(r->members(), 1));
+        guard_.limits().check_runs(who, m_.store().active_runs_of(who.name),
+                                   std::max<std::uint64_t>(r->members(), 1));
       *out = m_.submit_ensemble(*r, who.name);
     });
   }
@@ -224,7 +227,8 @@ class Service final : public v1::KesslerService::Service {
   void check_run_owner(const Caller& who, std::int64_t run_id) {
     if (!who.owns_only()) return;
     auto owner = m_.store().run_submitter(run_id);
-    if (!owner) throw ServiceError(ServiceError::Code::kNotFound, "run " + std::to_string(run_id) + " not found");
+    if (!owner)
+      throw ServiceError(ServiceError::Code::kNotFound, "run " + std::to_string(run_id) + " not found");
     if (*owner != who.name)
       throw AccessError(false, "run " + std::to_string(run_id) + " was submitted by another token; token '" +
                                    who.name + "' (role submit) reaches only its own runs");
@@ -233,10 +237,12 @@ class Service final : public v1::KesslerService::Service {
     if (!who.owns_only()) return;
     auto owner = m_.store().ensemble_submitter(ensemble_id);
     if (!owner)
-      throw ServiceError(ServiceError::Code::kNotFound, "ensemble " + std::to_string(ensemble_id) + " not found");
+      throw ServiceError(ServiceError::Code::kNotFound,
+                         "ensemble " + std::to_string(ensemble_id) + " not found");
     if (*owner != who.name)
-      throw AccessError(false, "ensemble " + std::to_string(ensemble_id) + " was submitted by another token; token '" +
-                                   who.name + "' (role submit) reaches only its own ensembles");
+      throw AccessError(false, "ensemble " + std::to_string(ensemble_id) +
+                                   " was submitted by another token; token '" + who.name +
+                                   "' (role submit) reaches only its own ensembles");
   }
 
   RunManager& m_;

@@ -108,9 +108,11 @@ std::string create_token(const std::string& path, const std::string& name, Role 
   if (RAND_bytes(secret.data(), static_cast<int>(secret.size())) != 1)
     throw std::runtime_error("cannot draw random bytes (OpenSSL RAND_bytes)");
   const std::string token = "kst_" + to_hex(secret.data(), secret.size());
-  const std::string line = name + " " + role_name(role) + " " + std::string(kHashPrefix) + sha256_hex(token) + "\n";
+  const std::string line =
+      name + " " + role_name(role) + " " + std::string(kHashPrefix) + sha256_hex(token) + "\n";
   const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0600);
-  if (fd < 0) throw std::runtime_error("tokens file " + path + ": cannot write (" + std::strerror(errno) + ")");
+  if (fd < 0)
+    throw std::runtime_error("tokens file " + path + ": cannot write (" + std::strerror(errno) + ")");
   const ssize_t written = ::write(fd, line.data(), line.size());
   const bool closed = ::close(fd) == 0;
   if (written != static_cast<ssize_t>(line.size()) || !closed)
@@ -153,8 +155,9 @@ std::optional<Caller> Authenticator::authenticate(std::optional<std::string_view
 Caller admit_caller(const Authenticator& auth, std::optional<std::string_view> authorization, Role needed) {
   std::optional<Caller> caller = auth.authenticate(authorization);
   if (!caller)
-    throw AccessError(true, authorization ? "unknown token (authorization: Bearer TOKEN)"
-                                          : "a token is required (authorization: Bearer TOKEN; kessler --token)");
+    throw AccessError(true, authorization
+                                ? "unknown token (authorization: Bearer TOKEN)"
+                                : "a token is required (authorization: Bearer TOKEN; kessler --token)");
   if (static_cast<int>(caller->role) < static_cast<int>(needed))
     throw AccessError(false, std::string("token '") + caller->name + "' has role " + role_name(caller->role) +
                                  "; this call needs " + role_name(needed));

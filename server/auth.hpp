@@ -38,7 +38,8 @@ struct AccessError : std::runtime_error {
 
 // The caller of a request with this "authorization" metadata, allowed calls needing `needed`; throws
 // AccessError otherwise.
-Caller admit_caller(const class Authenticator& auth, std::optional<std::string_view> authorization, Role needed);
+Caller admit_caller(const class Authenticator& auth, std::optional<std::string_view> authorization,
+                    Role needed);
 
 // Lowercase hex of the SHA-256 of `data` (OpenSSL).
 std::string sha256_hex(std::string_view data);

@@ -172,7 +172,8 @@ v1::EnsembleReport RunManager::submit_ensemble(const v1::SubmitEnsembleRequest& 
   std::unique_lock same_request(requests_mutex_, std::defer_lock);
   if (!request_id.empty()) {
     same_request.lock();  // a retry racing its first try finds the first ensemble here
-    if (auto existing = store_.ensemble_of_request(submitter, request_id)) return get_ensemble_members(*existing);
+    if (auto existing = store_.ensemble_of_request(submitter, request_id))
+      return get_ensemble_members(*existing);
   }
   auto [id, runs] =
       store_.create_ensemble(submitted, member_scenarios, threads, seed, unix_now_s(), submitter, request_id);

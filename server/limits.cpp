@@ -51,8 +51,9 @@ Limits::Watch::Watch(Limits& limits, const Caller& caller)
                      " open, its limit (--max-watches " + std::to_string(o.watches) + ")");
   if (per_token_ && o.watches_per_token > 0 && limits.watches_by_token_[key_] >= o.watches_per_token)
     throw LimitError("watch streams per token: token '" + key_ + "' has " +
-                     std::to_string(limits.watches_by_token_[key_]) + " open, its limit (--max-watches-per-token " +
-                     std::to_string(o.watches_per_token) + ")");
+                     std::to_string(limits.watches_by_token_[key_]) +
+                     " open, its limit (--max-watches-per-token " + std::to_string(o.watches_per_token) +
+                     ")");
   ++limits.watches_total_;
   if (per_token_) ++limits.watches_by_token_[key_];
 }

@@ -21,9 +21,9 @@ struct LimitError : std::runtime_error {
 struct LimitOptions {
   // Per token (read and submit tokens; the admin and the tokenless default are the operator and
   // are held only by the daemon-wide limits). 0: no limit.
-  std::uint64_t runs_per_token = 100;      // queued + running, ensemble members included
-  std::uint64_t watches_per_token = 32;    // WatchRun streams open at once
-  double requests_per_s_per_token = 20;    // expensive RPCs (submissions, queries), bursts of 2 s
+  std::uint64_t runs_per_token = 100;    // queued + running, ensemble members included
+  std::uint64_t watches_per_token = 32;  // WatchRun streams open at once
+  double requests_per_s_per_token = 20;  // expensive RPCs (submissions, queries), bursts of 2 s
   // Daemon-wide, every caller: WatchRun streams open at once (each holds a thread). 0: no limit.
   std::uint64_t watches = 512;
 };

@@ -3,12 +3,12 @@
 
 #include <chrono>
 #include <cmath>
-#include <memory>
-#include <optional>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
+#include <optional>
 #include <string>
 
 #include "server/api_server.hpp"
@@ -118,8 +118,9 @@ int token_command(int argc, char** argv) {
       name = role + "-" + std::to_string(n);
     }
     std::string token = create_token(path, name, *parsed);
-    std::cerr << "kesslerd: added token '" << name << "' (role " << role << ") to " << path
-              << "; it is shown once, only its hash is kept. A running kesslerd rereads the file on SIGHUP.\n";
+    std::cerr
+        << "kesslerd: added token '" << name << "' (role " << role << ") to " << path
+        << "; it is shown once, only its hash is kept. A running kesslerd rereads the file on SIGHUP.\n";
     std::cout << token << std::endl;
     return 0;
   } catch (const std::exception& e) {
@@ -136,14 +137,18 @@ struct Security {
 
 // Loopback serves as it is; any other address needs TLS and tokens, or --insecure (with its warning).
 // The warning to send with every answer, or "" ; nullopt when the daemon must refuse to start.
-std::optional<std::string> exposure_warning(const kessler::server::ListenAddress& address, const Security& s) {
+std::optional<std::string> exposure_warning(const kessler::server::ListenAddress& address,
+                                            const Security& s) {
   if (kessler::server::is_loopback_host(address.host)) return std::string();
   const bool tls = !s.tls.cert.empty();
   const bool tokens = !s.tokens_path.empty();
   if (tls && tokens) return std::string();
   if (!s.insecure) return std::nullopt;
   return "insecure: kesslerd serves " + address.host + " without " +
-         (tls ? "tokens" : tokens ? "TLS" : "TLS or tokens") + " (--insecure)";
+         (tls      ? "tokens"
+          : tokens ? "TLS"
+                   : "TLS or tokens") +
+         " (--insecure)";
 }
 
 }  // namespace
@@ -181,10 +186,12 @@ int main(int argc, char** argv) {
     } else if (arg == "--tokens") {
       security.tokens_path = value;
     } else if (arg == "--max-runs-per-token") {
-      if (!parse_int(value, 0, 1000000, n)) return usage_error("--max-runs-per-token needs an integer 0..1000000");
+      if (!parse_int(value, 0, 1000000, n))
+        return usage_error("--max-runs-per-token needs an integer 0..1000000");
       api_options.limits.runs_per_token = static_cast<std::uint64_t>(n);
     } else if (arg == "--max-watches-per-token") {
-      if (!parse_int(value, 0, 100000, n)) return usage_error("--max-watches-per-token needs an integer 0..100000");
+      if (!parse_int(value, 0, 100000, n))
+        return usage_error("--max-watches-per-token needs an integer 0..100000");
       api_options.limits.watches_per_token = static_cast<std::uint64_t>(n);
     } else if (arg == "--max-watches") {
       if (!parse_int(value, 0, 100000, n)) return usage_error("--max-watches needs an integer 0..100000");
@@ -234,8 +241,9 @@ int main(int argc, char** argv) {
     return usage_error("--tls-client-ca needs --tls-cert and --tls-key");
   auto warning = exposure_warning(*address, security);
   if (!warning)
-    return usage_error("--listen " + listen +
-                       " is not loopback: serving it needs --tls-cert, --tls-key and --tokens, or --insecure");
+    return usage_error(
+        "--listen " + listen +
+        " is not loopback: serving it needs --tls-cert, --tls-key and --tokens, or --insecure");
   api_options.warning = *warning;
   api_options.max_message_bytes = static_cast<std::size_t>(max_message_mb) << 20;
 
@@ -257,7 +265,8 @@ int main(int argc, char** argv) {
     if (!parent.empty()) std::filesystem::create_directories(parent);
     RunManager manager(options);
     ApiServer api(manager, listen, api_options);
-    std::cout << "kesslerd: serving on " << address->host << ":" << api.port() << (api_options.tls ? " (TLS" : " (plaintext")
+    std::cout << "kesslerd: serving on " << address->host << ":" << api.port()
+              << (api_options.tls ? " (TLS" : " (plaintext")
               << (api_options.tls && !security.tls.client_ca.empty() ? ", client certificates" : "")
               << (auth->enabled() ? ", " + std::to_string(auth->size()) + " tokens)" : ", no tokens)")
               << ", database " << options.db_path << std::endl;
@@ -271,7 +280,8 @@ int main(int argc, char** argv) {
     while (sigwait(&signals, &received) == 0 && received == SIGHUP) {
       try {
         auth->reload();
-        std::cout << "kesslerd: SIGHUP: " << auth->size() << " tokens from " << security.tokens_path << std::endl;
+        std::cout << "kesslerd: SIGHUP: " << auth->size() << " tokens from " << security.tokens_path
+                  << std::endl;
       } catch (const std::exception& e) {
         std::cerr << "kesslerd: SIGHUP: kept the tokens loaded before: " << e.what() << std::endl;
       }

@@ -31,8 +31,10 @@ void check_number(double v, const std::string& field, bool positive) {
 template <typename Kappas>
 void check_kappas(const Kappas& kappas, const std::string& field) {
   if (static_cast<std::size_t>(kappas.size()) > kMaxKappas)
-    refuse(field, "at most " + std::to_string(kMaxKappas) + " thresholds, got " + std::to_string(kappas.size()));
-  for (int i = 0; i < kappas.size(); ++i) check_number(kappas[i], field + "[" + std::to_string(i) + "]", true);
+    refuse(field,
+           "at most " + std::to_string(kMaxKappas) + " thresholds, got " + std::to_string(kappas.size()));
+  for (int i = 0; i < kappas.size(); ++i)
+    check_number(kappas[i], field + "[" + std::to_string(i) + "]", true);
 }
 
 void check_scenario_numbers(bool has_scenario, const v1::Scenario& scenario) {
@@ -96,9 +98,9 @@ void check_finite_numbers(const google::protobuf::Message& message, const std::s
             refuse(at, "must be a finite number");
           break;
         case FD::CPPTYPE_MESSAGE:
-          check_finite_numbers(r ? reflection->GetRepeatedMessage(message, field, i)
-                                 : reflection->GetMessage(message, field),
-                               at);
+          check_finite_numbers(
+              r ? reflection->GetRepeatedMessage(message, field, i) : reflection->GetMessage(message, field),
+              at);
           break;
         default:
           break;
@@ -148,8 +150,8 @@ void check_stats_size(double run_length_s, double time_bin_s, std::size_t kappas
   if (bins > kMaxStatsBins || cells > kMaxStatsCells)
     refuse("time_bin_s", "too small: " + std::to_string(static_cast<std::uint64_t>(std::min(bins, 1e18))) +
                              " bins of the run (at most " + std::to_string(static_cast<int>(kMaxStatsBins)) +
-                             ", and bins x kappas at most " + std::to_string(static_cast<int>(kMaxStatsCells)) +
-                             ")");
+                             ", and bins x kappas at most " +
+                             std::to_string(static_cast<int>(kMaxStatsCells)) + ")");
 }
 
 void validate(const v1::ListFragmentsRequest& request) {

@@ -341,7 +341,8 @@ v1::Run RunManager::get(std::int64_t run_id) {
 
 v1::Run RunManager::get(const v1::GetRunRequest& request) {
   v1::Run run = get(request.run_id(), true);
-  if (!request.include_inline_data()) run.set_inline_data_omitted_bytes(strip_inline_data(*run.mutable_scenario()));
+  if (!request.include_inline_data())
+    run.set_inline_data_omitted_bytes(strip_inline_data(*run.mutable_scenario()));
   return run;
 }
 

@@ -102,7 +102,8 @@ class RunManager {
   v1::ListFragmentsResponse fragments(const v1::ListFragmentsRequest& request);
 
   // Ensembles (server/ensembles.cpp).
-  v1::EnsembleReport submit_ensemble(const v1::SubmitEnsembleRequest& request, const std::string& submitter = "");
+  v1::EnsembleReport submit_ensemble(const v1::SubmitEnsembleRequest& request,
+                                     const std::string& submitter = "");
   v1::EnsembleReport get_ensemble(const v1::GetEnsembleRequest& request);
   v1::ListEnsemblesResponse list_ensembles(const v1::ListEnsemblesRequest& request,
                                            const std::string* submitter = nullptr);

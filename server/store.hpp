@@ -98,7 +98,8 @@ class Store {
   // The run a submitter created with this request id, if any.
   std::optional<std::int64_t> run_of_request(const std::string& submitter, const std::string& request_id);
   // The ensemble a submitter created with this request id, if any.
-  std::optional<std::int64_t> ensemble_of_request(const std::string& submitter, const std::string& request_id);
+  std::optional<std::int64_t> ensemble_of_request(const std::string& submitter,
+                                                  const std::string& request_id);
   // Who submitted the run (nullopt: no such run).
   std::optional<std::string> run_submitter(std::int64_t run_id);
   std::optional<std::string> ensemble_submitter(std::int64_t ensemble_id);

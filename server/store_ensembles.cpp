@@ -29,13 +29,15 @@ StoredEnsemble ensemble_from_row(const Statement& s) {
 
 std::pair<std::int64_t, std::vector<std::int64_t>> Store::create_ensemble(
     const v1::Scenario& submitted, const std::vector<v1::Scenario>& members, int threads,
-    std::uint64_t base_seed, double created_unix_s, const std::string& submitter, const std::string& request_id) {
+    std::uint64_t base_seed, double created_unix_s, const std::string& submitter,
+    const std::string& request_id) {
   Lease lease(*this);
   exec(lease.db(), "BEGIN IMMEDIATE");
   try {
-    Statement s(lease.db(),
-                "INSERT INTO ensembles(name, scenario, members, base_seed, created_unix_s, submitter, request_id) "
-                "VALUES(?, ?, ?, ?, ?, ?, ?)");
+    Statement s(
+        lease.db(),
+        "INSERT INTO ensembles(name, scenario, members, base_seed, created_unix_s, submitter, request_id) "
+        "VALUES(?, ?, ?, ?, ?, ?, ?)");
     const std::string bytes = submitted.SerializeAsString();
     s.bind(1, submitted.name()).bind_blob(2, bytes).bind(3, static_cast<std::uint64_t>(members.size()));
     s.bind(4, base_seed).bind(5, created_unix_s).bind(6, submitter);

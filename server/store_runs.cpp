@@ -37,7 +37,8 @@ std::optional<std::string> submitter_of(sqlite3* db, const char* table, std::int
 
 }  // namespace
 
-std::optional<std::int64_t> Store::run_of_request(const std::string& submitter, const std::string& request_id) {
+std::optional<std::int64_t> Store::run_of_request(const std::string& submitter,
+                                                  const std::string& request_id) {
   Lease lease(*this);
   return id_of_request(lease.db(), "runs", submitter, request_id);
 }
@@ -61,7 +62,9 @@ std::optional<std::string> Store::ensemble_submitter(std::int64_t ensemble_id) {
 std::uint64_t Store::active_runs_of(const std::string& submitter) {
   Lease lease(*this);
   Statement s(lease.db(), "SELECT COUNT(*) FROM runs WHERE submitter = ? AND state IN (?, ?)");
-  s.bind(1, submitter).bind(2, static_cast<int>(v1::RUN_STATE_QUEUED)).bind(3, static_cast<int>(v1::RUN_STATE_RUNNING));
+  s.bind(1, submitter)
+      .bind(2, static_cast<int>(v1::RUN_STATE_QUEUED))
+      .bind(3, static_cast<int>(v1::RUN_STATE_RUNNING));
   return s.step() ? static_cast<std::uint64_t>(s.i64(0)) : 0;
 }
 

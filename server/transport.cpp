@@ -66,8 +66,8 @@ TlsMaterial load_tls(const TlsFiles& files) {
   out.cert_pem = read_file(files.cert, "--tls-cert");
   out.key_pem = read_file(files.key, "--tls-key");
   auto cert_bio = bio_of(out.cert_pem);
-  std::unique_ptr<X509, decltype(&X509_free)> cert(PEM_read_bio_X509(cert_bio.get(), nullptr, nullptr, nullptr),
-                                                   &X509_free);
+  std::unique_ptr<X509, decltype(&X509_free)> cert(
+      PEM_read_bio_X509(cert_bio.get(), nullptr, nullptr, nullptr), &X509_free);
   if (!cert) throw std::runtime_error("--tls-cert " + files.cert + ": not a PEM certificate");
   auto key_bio = bio_of(out.key_pem);
   std::unique_ptr<EVP_PKEY, decltype(&EVP_PKEY_free)> key(

@@ -3,10 +3,10 @@
 #include <chrono>
 #include <fstream>
 #include <iostream>
-#include <thread>
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <thread>
 
 #include "client/command.hpp"
 #include "client/commands/follow.hpp"

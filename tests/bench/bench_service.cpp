@@ -177,7 +177,8 @@ Measured through_daemon(const v1::Scenario& scenario, int threads, int watchers,
       credentials = grpc::SslCredentials(ssl);
     }
     server::ApiServer api(manager, "127.0.0.1:0", api_options);
-    auto channel = grpc::CreateChannel((secure ? "localhost:" : "127.0.0.1:") + std::to_string(api.port()), credentials);
+    auto channel =
+        grpc::CreateChannel((secure ? "localhost:" : "127.0.0.1:") + std::to_string(api.port()), credentials);
     auto stub = v1::KesslerService::NewStub(channel);
     auto authorize = [&](grpc::ClientContext& context) {
       if (!token.empty()) context.AddMetadata("authorization", "Bearer " + token);
@@ -311,7 +312,8 @@ int bench_service(int argc, char** argv) {
   server::tune_allocator_for_runs();
   Args args(argc, argv);
   args.allow_only({"--scenario", "--objects", "--screening-km", "--checkpoint-every-steps", "--watchers",
-                   "--repeats", "--threads", "--store-events", "--relay-gather-ms", "--checkpoint-write-ms", "--tls"});
+                   "--repeats", "--threads", "--store-events", "--relay-gather-ms", "--checkpoint-write-ms",
+                   "--tls"});
   std::string path =
       args.get("--scenario", std::string(KESSLER_DATASETS_DIR) + "/../scenarios/synthetic-small.yaml");
   const auto objects = args.get_int("--objects", 8000);                        // 0: as the scenario file says
@@ -360,14 +362,19 @@ int bench_service(int argc, char** argv) {
     // Alternate which goes first, so warm caches and load drifts fall on both sides alike.
     if (r % 2 == 0) local = in_process(scenario, threads);
     Measured secure;
-    if (tls && r % 2 == 1) secure = through_daemon(scenario, threads, watchers, gather_ms, checkpoint_write_ms, true);
+    if (tls && r % 2 == 1)
+      secure = through_daemon(scenario, threads, watchers, gather_ms, checkpoint_write_ms, true);
     daemon = through_daemon(scenario, threads, watchers, gather_ms, checkpoint_write_ms);
-    if (tls && r % 2 == 0) secure = through_daemon(scenario, threads, watchers, gather_ms, checkpoint_write_ms, true);
+    if (tls && r % 2 == 0)
+      secure = through_daemon(scenario, threads, watchers, gather_ms, checkpoint_write_ms, true);
     if (r % 2 == 1) local = in_process(scenario, threads);
     if (tls) {
       f["tls_wall"].push_back(secure.wall_s);
       f["tls_ratio"].push_back(secure.wall_s / daemon.wall_s);
       f["tls_other_cpu"].push_back(secure.other_cpu_s);
+      // The daemon's CPU (run and every other thread): what TLS and tokens cost, unskewed by other load.
+      f["tls_cpu_ratio"].push_back((secure.run_cpu_s + secure.other_cpu_s) /
+                                   (daemon.run_cpu_s + daemon.other_cpu_s));
       digests_equal = digests_equal && secure.digest == local.digest;
       watchers_complete_min = std::min(watchers_complete_min, secure.watchers_complete);
       std::cout << "repeat " << r + 1 << ": TLS and tokens " << secure.wall_s << " s (all other threads "
@@ -463,7 +470,12 @@ int bench_service(int argc, char** argv) {
         .add("tls_over_plaintext_ratio", median(tls_ratios))
         .add("tls_over_plaintext_ratio_min", *std::min_element(tls_ratios.begin(), tls_ratios.end()))
         .add("tls_over_plaintext_ratio_max", *std::max_element(tls_ratios.begin(), tls_ratios.end()))
-        .add("tls_daemon_other_cpu_s", med("tls_other_cpu"));
+        .add("tls_daemon_other_cpu_s", med("tls_other_cpu"))
+        .add("tls_over_plaintext_cpu_ratio", med("tls_cpu_ratio"))
+        .add("tls_over_plaintext_cpu_ratio_min",
+             *std::min_element(f["tls_cpu_ratio"].begin(), f["tls_cpu_ratio"].end()))
+        .add("tls_over_plaintext_cpu_ratio_max",
+             *std::max_element(f["tls_cpu_ratio"].begin(), f["tls_cpu_ratio"].end()));
   }
   line.print();
   return 0;

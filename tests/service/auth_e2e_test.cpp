@@ -20,7 +20,6 @@ namespace {
 using test::cli;
 using test::Daemon;
 
-
 const std::string kTiny = test::source_path("tests/service/scenarios/tiny.yaml");
 std::string tls_file(const std::string& name) {
   return test::source_path("tests/data/tls/" + name);
@@ -74,8 +73,8 @@ class TlsTokens : public ::testing::Test {
     for (const auto& [name, role] : std::map<std::string, std::string>{
              {"root", "admin"}, {"alice", "submit"}, {"bob", "submit"}, {"viewer", "read"}})
       if (!token.count(name)) token[name] = create_token(tokens_file, name, role);
-    std::vector<std::string> args = {"--tls-cert", tls_file("server.pem"), "--tls-key", tls_file("server.key"),
-                                     "--tokens", tokens_file};
+    std::vector<std::string> args = {
+        "--tls-cert", tls_file("server.pem"), "--tls-key", tls_file("server.key"), "--tokens", tokens_file};
     args.insert(args.end(), extra.begin(), extra.end());
     daemon = std::make_unique<Daemon>(dir.path() + "/k.db", args);
     daemon->start();
@@ -116,12 +115,14 @@ TEST_F(TlsTokens, CallsWithoutTheRightTokenAreRefused) {
   // A token of the right kind in the wrong scheme.
   grpc::ClientContext basic;
   basic.AddMetadata("authorization", "Basic " + token["root"]);
-  EXPECT_EQ(stub->ListRuns(&basic, v1::ListRunsRequest(), &runs).error_code(), grpc::StatusCode::UNAUTHENTICATED);
+  EXPECT_EQ(stub->ListRuns(&basic, v1::ListRunsRequest(), &runs).error_code(),
+            grpc::StatusCode::UNAUTHENTICATED);
 
   v1::Run run;
   auto read_submits = submit("viewer", run);
   EXPECT_EQ(read_submits.error_code(), grpc::StatusCode::PERMISSION_DENIED) << read_submits.error_message();
-  EXPECT_NE(read_submits.error_message().find("role read"), std::string::npos) << read_submits.error_message();
+  EXPECT_NE(read_submits.error_message().find("role read"), std::string::npos)
+      << read_submits.error_message();
   ASSERT_TRUE(list(token["root"], runs).ok());
   EXPECT_EQ(runs.runs_size(), 0);  // nothing refused was queued
 }
@@ -193,7 +194,8 @@ TEST_F(TlsTokens, TheRightTokenWorksThroughTheCli) {
   auto refused = cli(dir, "runs" + server);
   EXPECT_EQ(refused.exit_code, 1);
   EXPECT_NE(refused.err.find("UNAUTHENTICATED"), std::string::npos) << refused.err;
-  auto submitted = cli(dir, "submit " + kTiny + server + " --token " + token["alice"] + " --watch --output json");
+  auto submitted =
+      cli(dir, "submit " + kTiny + server + " --token " + token["alice"] + " --watch --output json");
   ASSERT_EQ(submitted.exit_code, 0) << submitted.err;
   EXPECT_NE(submitted.last_line().find("\"state\":\"succeeded\""), std::string::npos) << submitted.out;
   auto listed = cli(dir, "runs" + server, "KESSLER_TOKEN=" + token["viewer"]);
@@ -265,7 +267,8 @@ TEST_F(TlsTokens, PerTokenLimitsNameTheLimitAndItsValue) {
   }
   auto refused = second->Finish();
   EXPECT_EQ(refused.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
-  EXPECT_NE(refused.error_message().find("--max-watches-per-token 1"), std::string::npos) << refused.error_message();
+  EXPECT_NE(refused.error_message().find("--max-watches-per-token 1"), std::string::npos)
+      << refused.error_message();
   first_context->TryCancel();
   open->Finish();
 }
@@ -283,8 +286,8 @@ TEST_F(TlsTokens, MutualTlsRefusesClientsWithoutACertificate) {
 // Exposure: loopback needs nothing; any other address needs TLS and tokens or --insecure; bad ports
 // are refused.
 int kesslerd_exit(const TempDir& dir, const std::string& args) {
-  const std::string cmd = test::bin("kesslerd") + " --db " + dir.path() + "/x.db " + args + " > " + dir.path() +
-                          "/x.out 2>&1";
+  const std::string cmd =
+      test::bin("kesslerd") + " --db " + dir.path() + "/x.db " + args + " > " + dir.path() + "/x.out 2>&1";
   int status = std::system(cmd.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
@@ -299,8 +302,9 @@ TEST(DaemonExposure, PublicAddressesNeedTlsAndTokensOrInsecure) {
   EXPECT_EQ(kesslerd_exit(dir, "--listen 127.0.0.1:99999"), 2);
   EXPECT_EQ(kesslerd_exit(dir, "--listen 127.0.0.1:-1"), 2);
   EXPECT_EQ(kesslerd_exit(dir, "--listen 127.0.0.1:5x"), 2);
-  EXPECT_EQ(kesslerd_exit(dir, "--tls-cert " + tls_file("server.pem") + " --tls-key " + tls_file("client.key")),
-            1);  // a key that does not match
+  EXPECT_EQ(
+      kesslerd_exit(dir, "--tls-cert " + tls_file("server.pem") + " --tls-key " + tls_file("client.key")),
+      1);  // a key that does not match
 }
 
 TEST(DaemonExposure, InsecureWarnsAtStartAndInHealth) {

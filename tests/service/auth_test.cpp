@@ -63,8 +63,8 @@ TEST(Auth, BadTokenFilesAreRefusedNamingTheLine) {
   kessler::TempDir dir;
   const std::string path = dir.path() + "/tokens";
   const std::string hash = "sha256:" + std::string(64, 'a');
-  const std::vector<std::string> bad_lines = {"alice superuser " + hash, "alice read sha256:abc", "alice read",
-                                              "alice read " + hash + "\nalice admin " + hash};
+  const std::vector<std::string> bad_lines = {"alice superuser " + hash, "alice read sha256:abc",
+                                              "alice read", "alice read " + hash + "\nalice admin " + hash};
   for (const std::string& bad : bad_lines) {
     std::ofstream(path) << "# comment\n\n" << bad << "\n";
     try {
@@ -88,9 +88,11 @@ TEST(Transport, ListenAddressesAndLoopback) {
   ASSERT_TRUE(ok);
   EXPECT_EQ(ok->port, 50051);
   EXPECT_TRUE(parse_listen_address("[::1]:0", error));
-  for (const char* bad : {"127.0.0.1:99999", "127.0.0.1:-1", "127.0.0.1:", "127.0.0.1", ":80", "h:1.5", "h:8o"})
+  for (const char* bad :
+       {"127.0.0.1:99999", "127.0.0.1:-1", "127.0.0.1:", "127.0.0.1", ":80", "h:1.5", "h:8o"})
     EXPECT_FALSE(parse_listen_address(bad, error)) << bad;
-  for (const char* host : {"127.0.0.1", "127.1.2.3", "localhost", "[::1]"}) EXPECT_TRUE(is_loopback_host(host)) << host;
+  for (const char* host : {"127.0.0.1", "127.1.2.3", "localhost", "[::1]"})
+    EXPECT_TRUE(is_loopback_host(host)) << host;
   for (const char* host : {"0.0.0.0", "[::]", "10.0.0.1", "127.0.0.1.example.com", "example.com", ""})
     EXPECT_FALSE(is_loopback_host(host)) << host;
 }

@@ -19,7 +19,6 @@ namespace {
 
 using test::Daemon;
 
-
 const std::string kTiny = test::source_path("tests/service/scenarios/tiny.yaml");
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -41,7 +40,8 @@ grpc::Status stats(v1::KesslerService::Stub& s, grpc::ClientContext& c, const v1
   v1::RunStats out;
   return s.GetRunStats(&c, r, &out);
 }
-grpc::Status conjunctions(v1::KesslerService::Stub& s, grpc::ClientContext& c, const v1::ListConjunctionsRequest& r) {
+grpc::Status conjunctions(v1::KesslerService::Stub& s, grpc::ClientContext& c,
+                          const v1::ListConjunctionsRequest& r) {
   v1::ListConjunctionsResponse out;
   return s.ListConjunctions(&c, r, &out);
 }
@@ -65,12 +65,13 @@ std::vector<Finding> findings() {
                     return stats(s, c, r);
                   }});
   for (double bad : {kNaN, -1.0, 0.0, kInf})
-    rows.push_back({"stats: kappa not positive and finite", "kappas[1]", [bad](auto& s, auto& c, std::int64_t id) {
-                      auto r = for_run<v1::GetRunStatsRequest>(id);
-                      r.add_kappas(1);
-                      r.add_kappas(bad);
-                      return stats(s, c, r);
-                    }});
+    rows.push_back(
+        {"stats: kappa not positive and finite", "kappas[1]", [bad](auto& s, auto& c, std::int64_t id) {
+           auto r = for_run<v1::GetRunStatsRequest>(id);
+           r.add_kappas(1);
+           r.add_kappas(bad);
+           return stats(s, c, r);
+         }});
   for (double bad : {kNaN, -5.0, kInf})
     rows.push_back({"stats: bad time bin", "time_bin_s", [bad](auto& s, auto& c, std::int64_t id) {
                       auto r = for_run<v1::GetRunStatsRequest>(id);
@@ -170,7 +171,8 @@ class RequestFindings : public ::testing::Test {
     dir = new TempDir;
     daemon = new Daemon(dir->path() + "/k.db");
     daemon->start();
-    stub = v1::KesslerService::NewStub(grpc::CreateChannel(daemon->address(), grpc::InsecureChannelCredentials()))
+    stub = v1::KesslerService::NewStub(
+               grpc::CreateChannel(daemon->address(), grpc::InsecureChannelCredentials()))
                .release();
     v1::SubmitRunRequest request;
     request.set_scenario_text(test::read_text(kTiny));
