@@ -107,7 +107,7 @@ std::string create_token(const std::string& path, const std::string& name, Role 
   std::array<unsigned char, 32> secret{};
   if (RAND_bytes(secret.data(), static_cast<int>(secret.size())) != 1)
     throw std::runtime_error("cannot draw random bytes (OpenSSL RAND_bytes)");
-  const std::string token = "kst_" + to_hex(secret.data(), secret.size());
+  std::string token = "kst_" + to_hex(secret.data(), secret.size());
   const std::string line =
       name + " " + role_name(role) + " " + std::string(kHashPrefix) + sha256_hex(token) + "\n";
   const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0600);
