@@ -37,10 +37,6 @@ void check_kappas(const Kappas& kappas, const std::string& field) {
     check_number(kappas[i], field + "[" + std::to_string(i) + "]", true);
 }
 
-void check_scenario_numbers(bool has_scenario, const v1::Scenario& scenario) {
-  if (has_scenario) check_finite_numbers(scenario, "scenario");
-}
-
 }  // namespace
 
 std::string short_quote(std::string_view text, std::size_t keep) {
@@ -111,12 +107,10 @@ void check_finite_numbers(const google::protobuf::Message& message, const std::s
 
 void validate(const v1::SubmitRunRequest& request) {
   check_request_id(request.request_id());
-  check_scenario_numbers(request.has_scenario(), request.scenario());
 }
 
 void validate(const v1::SubmitEnsembleRequest& request) {
   check_request_id(request.request_id());
-  check_scenario_numbers(request.has_scenario(), request.scenario());
 }
 
 void validate(const v1::ListRunsRequest& request) {

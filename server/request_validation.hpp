@@ -44,7 +44,8 @@ void check_stats_size(double run_length_s, double time_bin_s, std::size_t kappas
 // A page token: empty, or the decimal digits of a previous page's token (no sign, point or suffix).
 void check_page_token(const std::string& token, const char* field = "page_token");
 void check_request_id(const std::string& id);
-// Every double and float field of `message` (nested ones too) finite; the path of the first that is not.
+// Every double and float field of `message` (nested ones too) finite, else kInvalidArgument with the
+// path of the first that is not (prefix "" for a scenario: paths as validate_scenario's).
 void check_finite_numbers(const google::protobuf::Message& message, const std::string& prefix);
 
 }  // namespace kessler::server

@@ -276,6 +276,7 @@ v1::Scenario RunManager::read_scenario(const v1::Scenario* scenario, const std::
     throw ServiceError(Code::kInvalidArgument, "scenario: missing (give scenario or scenario_text)",
                        "scenario");
   }
+  check_finite_numbers(out, "");  // NaN and infinities, whichever way they came
   return out;
 }
 

@@ -141,14 +141,14 @@ std::vector<Finding> findings() {
                     return s.GetEnsemble(&c, r, &out);
                   }});
   // Submissions: numbers in the scenario message, request ids.
-  rows.push_back({"submit: NaN dt_s", "scenario.dt_s", [](auto& s, auto& c, std::int64_t) {
+  rows.push_back({"submit: NaN dt_s", "dt_s", [](auto& s, auto& c, std::int64_t) {
                     v1::SubmitRunRequest r;
                     r.mutable_scenario()->set_name("nan");
                     r.mutable_scenario()->set_dt_s(kNaN);
                     v1::Run out;
                     return s.SubmitRun(&c, r, &out);
                   }});
-  rows.push_back({"submit: infinite screening distance", "scenario.conjunctions.screening_distance_km",
+  rows.push_back({"submit: infinite screening distance", "conjunctions.screening_distance_km",
                   [](auto& s, auto& c, std::int64_t) {
                     v1::SubmitRunRequest r;
                     r.mutable_scenario()->mutable_conjunctions()->set_screening_distance_km(kInf);
@@ -159,6 +159,14 @@ std::vector<Finding> findings() {
                     v1::SubmitRunRequest r;
                     r.set_scenario_text(test::read_text(kTiny));
                     r.set_request_id(std::string(200, 'x'));
+                    v1::Run out;
+                    return s.SubmitRun(&c, r, &out);
+                  }});
+  rows.push_back({"submit: infinite altitude in the text", "population.synthetic.max_altitude_km",
+                  [](auto& s, auto& c, std::int64_t) {
+                    v1::SubmitRunRequest r;
+                    r.set_scenario_text(
+                        "name: inf\npopulation:\n  synthetic:\n    objects: 10\n    max_altitude_km: .inf\n");
                     v1::Run out;
                     return s.SubmitRun(&c, r, &out);
                   }});
