@@ -151,6 +151,102 @@ std::optional<std::string> exposure_warning(const kessler::server::ListenAddress
          " (--insecure)";
 }
 
+// One of the flags of TLS, tokens and limits: true when `arg` is one, with `error` set when its value
+// is wrong.
+bool security_flag(const std::string& arg, const std::string& value, Security& security,
+                   kessler::server::LimitOptions& limits, std::string& error) {
+  long n = 0;
+  auto count = [&](std::uint64_t& out, long max) {
+    if (parse_int(value, 0, max, n))
+      out = static_cast<std::uint64_t>(n);
+    else
+      error = arg + " needs an integer 0.." + std::to_string(max);
+  };
+  if (arg == "--tls-cert") {
+    security.tls.cert = value;
+  } else if (arg == "--tls-key") {
+    security.tls.key = value;
+  } else if (arg == "--tls-client-ca") {
+    security.tls.client_ca = value;
+  } else if (arg == "--tokens") {
+    security.tokens_path = value;
+  } else if (arg == "--max-runs-per-token") {
+    count(limits.runs_per_token, 1000000);
+  } else if (arg == "--max-watches-per-token") {
+    count(limits.watches_per_token, 100000);
+  } else if (arg == "--max-watches") {
+    count(limits.watches, 100000);
+  } else if (arg == "--max-requests-per-s") {
+    if (!parse_rate(value, limits.requests_per_s_per_token)) error = arg + " needs a number 0..1000000";
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// The flags of TLS and tokens together, and whether the address may be served with them: a message
+// when not, else "" with `warning` set to what every answer carries ("" for none).
+std::string check_exposure(const kessler::server::ListenAddress& address, const Security& security,
+                           std::string& warning) {
+  if (security.tls.cert.empty() != security.tls.key.empty()) return "--tls-cert and --tls-key go together";
+  if (!security.tls.client_ca.empty() && security.tls.cert.empty())
+    return "--tls-client-ca needs --tls-cert and --tls-key";
+  auto exposure = exposure_warning(address, security);
+  if (!exposure)
+    return "--listen " + address.host + ":" + std::to_string(address.port) +
+           " is not loopback: serving it needs --tls-cert, --tls-key and --tokens, or --insecure";
+  warning = *exposure;
+  return "";
+}
+
+// Serves until SIGTERM or SIGINT (SIGHUP rereads the tokens); the exit code.
+int serve(const kessler::server::ManagerOptions& options, kessler::server::ApiOptions api_options,
+          const Security& security, const kessler::server::ListenAddress& address,
+          const std::string& port_file, sigset_t signals) {
+  using namespace kessler::server;
+  const std::string listen = address.host + ":" + std::to_string(address.port);
+  try {
+    if (!security.tls.cert.empty()) api_options.tls = load_tls(security.tls);
+    auto auth = std::make_shared<Authenticator>(security.tokens_path);
+    api_options.auth = auth;
+    auto parent = std::filesystem::path(options.db_path).parent_path();
+    if (!parent.empty()) std::filesystem::create_directories(parent);
+    RunManager manager(options);
+    ApiServer api(manager, listen, api_options);
+    std::cout << "kesslerd: serving on " << address.host << ":" << api.port()
+              << (api_options.tls ? " (TLS" : " (plaintext")
+              << (api_options.tls && !security.tls.client_ca.empty() ? ", client certificates" : "")
+              << (auth->enabled() ? ", " + std::to_string(auth->size()) + " tokens)" : ", no tokens)")
+              << ", database " << options.db_path << std::endl;
+    if (!api_options.warning.empty()) std::cerr << "kesslerd: WARNING: " << api_options.warning << std::endl;
+    if (!port_file.empty()) {
+      std::string tmp = port_file + ".tmp";
+      std::ofstream(tmp) << api.port() << "\n";
+      std::filesystem::rename(tmp, port_file);
+    }
+    int received = 0;
+    while (sigwait(&signals, &received) == 0 && received == SIGHUP) {
+      try {
+        auth->reload();
+        std::cout << "kesslerd: SIGHUP: " << auth->size() << " tokens from " << security.tokens_path
+                  << std::endl;
+      } catch (const std::exception& e) {
+        std::cerr << "kesslerd: SIGHUP: kept the tokens loaded before: " << e.what() << std::endl;
+      }
+    }
+    std::cout << "kesslerd: " << (received == SIGTERM ? "SIGTERM" : "SIGINT")
+              << ": checkpointing running runs and stopping" << std::endl;
+    manager.shutdown();
+    api.shutdown(2.0);
+    api.wait();
+    std::cout << "kesslerd: stopped" << std::endl;
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "kesslerd: " << e.what() << "\n";
+    return 1;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -175,30 +271,11 @@ int main(int argc, char** argv) {
     if (i + 1 >= argc) return usage_error("unknown option or missing value: " + arg);
     std::string value = argv[++i];
     long n = 0;
+    std::string flag_error;
     if (arg == "--listen") {
       listen = value;
-    } else if (arg == "--tls-cert") {
-      security.tls.cert = value;
-    } else if (arg == "--tls-key") {
-      security.tls.key = value;
-    } else if (arg == "--tls-client-ca") {
-      security.tls.client_ca = value;
-    } else if (arg == "--tokens") {
-      security.tokens_path = value;
-    } else if (arg == "--max-runs-per-token") {
-      if (!parse_int(value, 0, 1000000, n))
-        return usage_error("--max-runs-per-token needs an integer 0..1000000");
-      api_options.limits.runs_per_token = static_cast<std::uint64_t>(n);
-    } else if (arg == "--max-watches-per-token") {
-      if (!parse_int(value, 0, 100000, n))
-        return usage_error("--max-watches-per-token needs an integer 0..100000");
-      api_options.limits.watches_per_token = static_cast<std::uint64_t>(n);
-    } else if (arg == "--max-watches") {
-      if (!parse_int(value, 0, 100000, n)) return usage_error("--max-watches needs an integer 0..100000");
-      api_options.limits.watches = static_cast<std::uint64_t>(n);
-    } else if (arg == "--max-requests-per-s") {
-      if (!parse_rate(value, api_options.limits.requests_per_s_per_token))
-        return usage_error("--max-requests-per-s needs a number 0..1000000");
+    } else if (security_flag(arg, value, security, api_options.limits, flag_error)) {
+      if (!flag_error.empty()) return usage_error(flag_error);
     } else if (arg == "--db") {
       options.db_path = value;
     } else if (arg == "--runs-at-once") {
@@ -235,16 +312,8 @@ int main(int argc, char** argv) {
   std::string address_error;
   auto address = parse_listen_address(listen, address_error);
   if (!address) return usage_error(address_error);
-  if (security.tls.cert.empty() != security.tls.key.empty())
-    return usage_error("--tls-cert and --tls-key go together");
-  if (!security.tls.client_ca.empty() && security.tls.cert.empty())
-    return usage_error("--tls-client-ca needs --tls-cert and --tls-key");
-  auto warning = exposure_warning(*address, security);
-  if (!warning)
-    return usage_error(
-        "--listen " + listen +
-        " is not loopback: serving it needs --tls-cert, --tls-key and --tokens, or --insecure");
-  api_options.warning = *warning;
+  if (auto error = check_exposure(*address, security, api_options.warning); !error.empty())
+    return usage_error(error);
   api_options.max_message_bytes = static_cast<std::size_t>(max_message_mb) << 20;
 
   // SIGTERM and SIGINT (stop) and SIGHUP (reread the tokens) are taken by sigwait below, not by
@@ -257,44 +326,5 @@ int main(int argc, char** argv) {
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   tune_allocator_for_runs();
-  try {
-    if (!security.tls.cert.empty()) api_options.tls = load_tls(security.tls);
-    auto auth = std::make_shared<Authenticator>(security.tokens_path);
-    api_options.auth = auth;
-    auto parent = std::filesystem::path(options.db_path).parent_path();
-    if (!parent.empty()) std::filesystem::create_directories(parent);
-    RunManager manager(options);
-    ApiServer api(manager, listen, api_options);
-    std::cout << "kesslerd: serving on " << address->host << ":" << api.port()
-              << (api_options.tls ? " (TLS" : " (plaintext")
-              << (api_options.tls && !security.tls.client_ca.empty() ? ", client certificates" : "")
-              << (auth->enabled() ? ", " + std::to_string(auth->size()) + " tokens)" : ", no tokens)")
-              << ", database " << options.db_path << std::endl;
-    if (!api_options.warning.empty()) std::cerr << "kesslerd: WARNING: " << api_options.warning << std::endl;
-    if (!port_file.empty()) {
-      std::string tmp = port_file + ".tmp";
-      std::ofstream(tmp) << api.port() << "\n";
-      std::filesystem::rename(tmp, port_file);
-    }
-    int received = 0;
-    while (sigwait(&signals, &received) == 0 && received == SIGHUP) {
-      try {
-        auth->reload();
-        std::cout << "kesslerd: SIGHUP: " << auth->size() << " tokens from " << security.tokens_path
-                  << std::endl;
-      } catch (const std::exception& e) {
-        std::cerr << "kesslerd: SIGHUP: kept the tokens loaded before: " << e.what() << std::endl;
-      }
-    }
-    std::cout << "kesslerd: " << (received == SIGTERM ? "SIGTERM" : "SIGINT")
-              << ": checkpointing running runs and stopping" << std::endl;
-    manager.shutdown();
-    api.shutdown(2.0);
-    api.wait();
-    std::cout << "kesslerd: stopped" << std::endl;
-    return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "kesslerd: " << e.what() << "\n";
-    return 1;
-  }
+  return serve(options, api_options, security, *address, port_file, signals);
 }
