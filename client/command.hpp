@@ -18,6 +18,9 @@ inline constexpr int kExitUsage = 2;
 struct GlobalOptions {
   std::string server;  // empty: $KESSLER_SERVER, else 127.0.0.1:50051
   std::string output;  // empty: the command's default format
+  // Security of the connection (client/remote/remote_client.hpp's ConnectionOptions); empty: from the
+  // environment, else none.
+  std::string token, tls_ca, tls_cert, tls_key;
 };
 
 // What runs the command once its options are parsed; returns the exit code.

@@ -5,6 +5,9 @@
 #include <string>
 
 #include "client/command.hpp"
+#ifdef KESSLER_CLI_REMOTE
+#include "client/remote/remote_client.hpp"
+#endif
 
 namespace kessler::cli {
 
@@ -48,7 +51,9 @@ const CommandSpec kCommands[] = {
 
 const char* const kFooter =
     "Run 'kessler COMMAND --help' for a command's options.\n"
-    "Remote commands talk to kesslerd at --server ADDRESS, else $KESSLER_SERVER, else 127.0.0.1:50051.\n"
+    "Remote commands talk to kesslerd at --server ADDRESS, else $KESSLER_SERVER, else 127.0.0.1:50051;\n"
+    "with --token (else $KESSLER_TOKEN) when it takes tokens, over TLS with --tls-ca FILE (else\n"
+    "$KESSLER_TLS_CA), with a client certificate for mutual TLS from --tls-cert/--tls-key.\n"
     "Exit codes: 0 success, 1 failure, 2 bad usage or input.";
 
 // The subcommand the user named, or nullptr when parsing stopped before one.
@@ -61,7 +66,8 @@ CLI::App* named_command(CLI::App& app) {
 std::string first_word(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     std::string arg = argv[i];
-    if (arg == "--server" || arg == "--output") {
+    if (arg == "--server" || arg == "--output" || arg == "--token" || arg == "--tls-ca" ||
+        arg == "--tls-cert" || arg == "--tls-key") {
       ++i;
       continue;
     }
@@ -72,14 +78,34 @@ std::string first_word(int argc, char** argv) {
 
 }  // namespace
 
+namespace {
+
+void add_connection_options(CLI::App& command, GlobalOptions& global) {
+  command
+      .add_option("--server", global.server,
+                  "kesslerd to talk to (default $KESSLER_SERVER, else 127.0.0.1:50051)")
+      ->option_text("HOST:PORT");
+  command
+      .add_option("--token", global.token, "bearer token for a daemon with tokens (default $KESSLER_TOKEN)")
+      ->option_text("TOKEN");
+  command
+      .add_option("--tls-ca", global.tls_ca,
+                  "connect over TLS, trusting this PEM CA (default $KESSLER_TLS_CA)")
+      ->option_text("FILE");
+  command
+      .add_option("--tls-cert", global.tls_cert,
+                  "client certificate for mutual TLS (default $KESSLER_TLS_CERT)")
+      ->option_text("FILE");
+  command.add_option("--tls-key", global.tls_key, "its private key (default $KESSLER_TLS_KEY)")
+      ->option_text("FILE");
+}
+
+}  // namespace
+
 void add_global_options(CLI::App& command, GlobalOptions& global, const std::string& output_help,
                         bool server) {
   command.add_option("--output", global.output, output_help)->option_text("FORMAT");
-  if (server)
-    command
-        .add_option("--server", global.server,
-                    "kesslerd to talk to (default $KESSLER_SERVER, else 127.0.0.1:50051)")
-        ->option_text("HOST:PORT");
+  if (server) add_connection_options(command, global);
 }
 
 CLI::Option* add_run_id(CLI::App& command, std::int64_t& run_id) {
@@ -134,9 +160,7 @@ int main(int argc, char** argv) {
   app.footer(kFooter);
   GlobalOptions global;
   // Before the command's name; each command declares them again for after it.
-  app.add_option("--server", global.server,
-                 "kesslerd to talk to (default $KESSLER_SERVER, else 127.0.0.1:50051)")
-      ->option_text("HOST:PORT");
+  add_connection_options(app, global);
   app.add_option("--output", global.output, "table, csv or json, as the command takes them")
       ->option_text("FORMAT");
   std::map<std::string, CommandRun> runs;
@@ -164,5 +188,10 @@ int main(int argc, char** argv) {
   }
   CLI::App* command = named_command(app);
   if (!command) return usage_error("", "a command is required");
+#ifdef KESSLER_CLI_REMOTE
+  std::string error;
+  if (!set_connection_options({global.token, global.tls_ca, global.tls_cert, global.tls_key}, error))
+    return usage_error(command->get_name(), error);
+#endif
   return runs.at(command->get_name())();
 }

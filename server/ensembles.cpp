@@ -1,5 +1,7 @@
 #include "server/ensembles.hpp"
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -136,7 +138,11 @@ v1::RunState ensemble_state(const std::map<v1::RunState, std::uint64_t>& counts)
 
 // ---- the RunManager's ensemble calls ----
 
-v1::EnsembleReport RunManager::submit_ensemble(const v1::SubmitEnsembleRequest& request) {
+v1::EnsembleReport RunManager::submit_ensemble(const v1::SubmitEnsembleRequest& request,
+                                               const std::string& submitter) {
+  const std::string& request_id = request.request_id();
+  if (!request_id.empty())
+    if (auto id = store_.ensemble_of_request(submitter, request_id)) return get_ensemble_members(*id);
   const v1::Scenario scenario =
       read_scenario(request.has_scenario() ? &request.scenario() : nullptr,
                     request.has_scenario_text() ? &request.scenario_text() : nullptr);
@@ -152,6 +158,7 @@ v1::EnsembleReport RunManager::submit_ensemble(const v1::SubmitEnsembleRequest& 
   if (seed > std::numeric_limits<std::uint64_t>::max() - (members - 1))
     throw ServiceError(Code::kInvalidArgument, "seed: seed + members - 1 must fit in 64 bits", "seed");
   std::optional<v1::IngestReport> ingest = admit(base, request.threads());
+  if (ingest) malloc_trim(0);  // the ingest's buffers go back to the system
   if (scheduler_->queued() + members > options_.queue_limit)
     throw ServiceError(Code::kResourceExhausted,
                        "queue full: " + std::to_string(scheduler_->queued()) + " of " +
@@ -162,14 +169,26 @@ v1::EnsembleReport RunManager::submit_ensemble(const v1::SubmitEnsembleRequest& 
   const int threads = request.threads() > 0 ? request.threads() : options_.threads_per_run;
   v1::Scenario submitted = scenario;
   submitted.mutable_ensemble()->set_members(members);
-  auto [id, runs] = store_.create_ensemble(submitted, member_scenarios, threads, seed, unix_now_s());
+  std::unique_lock same_request(requests_mutex_, std::defer_lock);
+  if (!request_id.empty()) {
+    same_request.lock();  // a retry racing its first try finds the first ensemble here
+    if (auto existing = store_.ensemble_of_request(submitter, request_id))
+      return get_ensemble_members(*existing);
+  }
+  auto [id, runs] =
+      store_.create_ensemble(submitted, member_scenarios, threads, seed, unix_now_s(), submitter, request_id);
   for (std::int64_t run_id : runs) {
     if (ingest) store_.set_ingest(run_id, *ingest);
     scheduler_->enqueue(run_id, true);  // the room was checked above
   }
-  v1::EnsembleReport report = ensemble_head(id);
-  for (const v1::Run& run : store_.ensemble_runs(id))
-    *report.add_member() = member_of(run, StoredEnsemble{id, "", 0, members, seed, {}});
+  return get_ensemble_members(id);
+}
+
+v1::EnsembleReport RunManager::get_ensemble_members(std::int64_t ensemble_id) {
+  v1::EnsembleReport report = ensemble_head(ensemble_id);
+  auto e = store_.get_ensemble(ensemble_id, false);
+  if (!e) throw ServiceError(Code::kNotFound, "ensemble " + std::to_string(ensemble_id) + " not found");
+  for (const v1::Run& run : store_.ensemble_runs(ensemble_id)) *report.add_member() = member_of(run, *e);
   return report;
 }
 
@@ -183,6 +202,7 @@ v1::EnsembleReport RunManager::ensemble_head(std::int64_t ensemble_id) {
   report.set_created_unix_s(e->created_unix_s);
   report.set_base_seed(e->base_seed);
   report.set_members(e->members);
+  report.set_submitter(e->submitter);
   report.set_state(ensemble_state(counts));
   std::uint64_t finished = 0;
   for (const auto& [state, n] : counts)
@@ -204,6 +224,7 @@ v1::EnsembleReport RunManager::get_ensemble(const v1::GetEnsembleRequest& reques
   std::sort(kappas.begin(), kappas.end());
   for (double k : kappas) report.add_kappas(k);
   *report.mutable_scenario() = e->scenario;
+  strip_inline_data(*report.mutable_scenario());  // GetRun with include_inline_data returns them
   std::vector<MemberResults> results;
   for (const v1::Run& run : store_.ensemble_runs(e->id)) {
     *report.add_member() = member_of(run, *e);
@@ -215,12 +236,13 @@ v1::EnsembleReport RunManager::get_ensemble(const v1::GetEnsembleRequest& reques
   return report;
 }
 
-v1::ListEnsemblesResponse RunManager::list_ensembles(const v1::ListEnsemblesRequest& request) {
+v1::ListEnsemblesResponse RunManager::list_ensembles(const v1::ListEnsemblesRequest& request,
+                                                     const std::string* submitter) {
   if (request.page_size() < 0)
     throw ServiceError(Code::kInvalidArgument, "page_size: must be >= 0", "page_size");
   Page<StoredEnsemble> page;
   try {
-    page = store_.list_ensembles(request.page_size(), request.page_token());
+    page = store_.list_ensembles(request.page_size(), request.page_token(), submitter);
   } catch (const std::invalid_argument& e) {
     throw ServiceError(Code::kInvalidArgument, e.what(), "page_token");
   }
@@ -244,10 +266,7 @@ v1::EnsembleReport RunManager::cancel_ensemble(std::int64_t ensemble_id) {
       if (e.code != Code::kFailedPrecondition) throw;  // it ended meanwhile
     }
   }
-  v1::EnsembleReport report = ensemble_head(ensemble_id);
-  auto e = store_.get_ensemble(ensemble_id, false);
-  for (const v1::Run& run : store_.ensemble_runs(ensemble_id)) *report.add_member() = member_of(run, *e);
-  return report;
+  return get_ensemble_members(ensemble_id);
 }
 
 }  // namespace kessler::server

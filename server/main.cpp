@@ -2,20 +2,26 @@
 #include <signal.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
+#include <optional>
 #include <string>
 
 #include "server/api_server.hpp"
+#include "server/auth.hpp"
 #include "server/run_manager.hpp"
+#include "server/transport.hpp"
 
 namespace {
 
 const char* const kUsage = R"(kesslerd - the Kessler simulation daemon
 
 usage: kesslerd [options]
+       kesslerd token create --role read|submit|admin --tokens FILE [--name NAME]
 
 Accepts scenario runs over gRPC (kessler.v1.KesslerService, with the standard health service and
 server reflection), runs them in order, streams their events and keeps runs, events, conjunctions and
@@ -23,14 +29,31 @@ checkpoints in a SQLite database. Runs left running by a crash resume from their
 start; SIGTERM or SIGINT checkpoints running runs and exits cleanly.
 
 options:
-  --listen HOST:PORT    address to serve on (default 127.0.0.1:50051; port 0 picks a free one)
+  --listen HOST:PORT    address to serve on (default 127.0.0.1:50051; port 0 picks a free one). A
+                        non-loopback address needs --tls-cert/--tls-key and --tokens, or --insecure
+  --tls-cert FILE       serve TLS with this PEM certificate chain (and --tls-key)
+  --tls-key FILE        the certificate's PEM private key
+  --tls-client-ca FILE  mutual TLS: clients must present a certificate this PEM CA signed
+  --tokens FILE         bearer tokens and their roles (kesslerd token create); every call then needs
+                        one. Reread on SIGHUP
+  --insecure            allow a non-loopback --listen without TLS or tokens (warns at start and in
+                        every answer's "kessler-warning" metadata, which kessler health prints)
+  --max-runs-per-token N
+                        runs queued and running per read or submit token (default 100; 0: no limit)
+  --max-watches-per-token N
+                        WatchRun streams open per read or submit token (default 32; 0: no limit)
+  --max-watches N       WatchRun streams open in all (default 512; 0: no limit)
+  --max-requests-per-s R
+                        expensive calls (submissions, conjunctions, stats, fragments, ensembles) per
+                        second per read or submit token, in bursts of 2 s (default 20; 0: no limit)
   --db PATH             SQLite database, created when missing (default var/kessler.db)
   --runs-at-once N      runs simulated at the same time; the rest queue in order (default 1)
   --threads N           OpenMP threads per run unless a submission asks otherwise (default 0: all cores)
   --queue-limit N       queued runs accepted before SubmitRun answers RESOURCE_EXHAUSTED (default 1000)
   --max-ensemble-members N
                         most members SubmitEnsemble takes; more is INVALID_ARGUMENT (default 1000)
-  --max-message-mb N    largest request accepted, e.g. a scenario with an inline catalog (default 64)
+  --max-message-mb N    largest request accepted, e.g. a scenario with an inline catalog, and largest
+                        answer sent (default 64)
   --datasets DIR        bundled datasets (default: the build's deploy/datasets)
   --traffic-plans DIR   shipped launch plans, a scenario's traffic.plans (default: the build's
                         deploy/traffic)
@@ -39,6 +62,9 @@ options:
                         replaces one still waiting (default 1000; 0: every checkpoint as it comes)
   --port-file PATH      write the port listened on to PATH once serving (for scripts and tests)
   --help                this text
+
+Limits of per-token kind hold read and submit tokens; the admin tokens and the tokenless default (the
+operator) are held by the daemon-wide limits only. A limit reached answers RESOURCE_EXHAUSTED naming it.
 )";
 
 int usage_error(const std::string& message) {
@@ -54,11 +80,181 @@ bool parse_int(const std::string& text, long min, long max, long& out) {
   return true;
 }
 
+bool parse_rate(const std::string& text, double& out) {
+  char* end = nullptr;
+  double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v) || v < 0 || v > 1e6) return false;
+  out = v;
+  return true;
+}
+
+// kesslerd token create --role R --tokens FILE [--name NAME]: prints the new token once.
+int token_command(int argc, char** argv) {
+  using namespace kessler::server;
+  if (argc < 3 || std::string(argv[2]) != "create")
+    return usage_error("token: the only subcommand is create (kesslerd token create --role R --tokens FILE)");
+  std::string role, path, name;
+  for (int i = 3; i < argc; ++i) {
+    std::string arg = argv[i];
+    if (i + 1 >= argc) return usage_error("token create: missing value of " + arg);
+    std::string value = argv[++i];
+    if (arg == "--role")
+      role = value;
+    else if (arg == "--tokens")
+      path = value;
+    else if (arg == "--name")
+      name = value;
+    else
+      return usage_error("token create: unknown option " + arg);
+  }
+  auto parsed = parse_role(role);
+  if (!parsed) return usage_error("token create: --role must be read, submit or admin");
+  if (path.empty()) return usage_error("token create: --tokens FILE is required");
+  try {
+    if (name.empty()) {
+      // The first free "<role>-N".
+      std::size_t n = 1;
+      if (std::filesystem::exists(path)) n += read_tokens_file(path).size();
+      name = role + "-" + std::to_string(n);
+    }
+    std::string token = create_token(path, name, *parsed);
+    std::cerr
+        << "kesslerd: added token '" << name << "' (role " << role << ") to " << path
+        << "; it is shown once, only its hash is kept. A running kesslerd rereads the file on SIGHUP.\n";
+    std::cout << token << std::endl;
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "kesslerd: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+struct Security {
+  kessler::server::TlsFiles tls;
+  std::string tokens_path;
+  bool insecure = false;
+};
+
+// Loopback serves as it is; any other address needs TLS and tokens, or --insecure (with its warning).
+// The warning to send with every answer, or "" ; nullopt when the daemon must refuse to start.
+std::optional<std::string> exposure_warning(const kessler::server::ListenAddress& address,
+                                            const Security& s) {
+  if (kessler::server::is_loopback_host(address.host)) return std::string();
+  const bool tls = !s.tls.cert.empty();
+  const bool tokens = !s.tokens_path.empty();
+  if (tls && tokens) return std::string();
+  if (!s.insecure) return std::nullopt;
+  return "insecure: kesslerd serves " + address.host + " without " +
+         (tls      ? "tokens"
+          : tokens ? "TLS"
+                   : "TLS or tokens") +
+         " (--insecure)";
+}
+
+// One of the flags of TLS, tokens and limits: true when `arg` is one, with `error` set when its value
+// is wrong.
+bool security_flag(const std::string& arg, const std::string& value, Security& security,
+                   kessler::server::LimitOptions& limits, std::string& error) {
+  long n = 0;
+  auto count = [&](std::uint64_t& out, long max) {
+    if (parse_int(value, 0, max, n))
+      out = static_cast<std::uint64_t>(n);
+    else
+      error = arg + " needs an integer 0.." + std::to_string(max);
+  };
+  if (arg == "--tls-cert") {
+    security.tls.cert = value;
+  } else if (arg == "--tls-key") {
+    security.tls.key = value;
+  } else if (arg == "--tls-client-ca") {
+    security.tls.client_ca = value;
+  } else if (arg == "--tokens") {
+    security.tokens_path = value;
+  } else if (arg == "--max-runs-per-token") {
+    count(limits.runs_per_token, 1000000);
+  } else if (arg == "--max-watches-per-token") {
+    count(limits.watches_per_token, 100000);
+  } else if (arg == "--max-watches") {
+    count(limits.watches, 100000);
+  } else if (arg == "--max-requests-per-s") {
+    if (!parse_rate(value, limits.requests_per_s_per_token)) error = arg + " needs a number 0..1000000";
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// The flags of TLS and tokens together, and whether the address may be served with them: a message
+// when not, else "" with `warning` set to what every answer carries ("" for none).
+std::string check_exposure(const kessler::server::ListenAddress& address, const Security& security,
+                           std::string& warning) {
+  if (security.tls.cert.empty() != security.tls.key.empty()) return "--tls-cert and --tls-key go together";
+  if (!security.tls.client_ca.empty() && security.tls.cert.empty())
+    return "--tls-client-ca needs --tls-cert and --tls-key";
+  auto exposure = exposure_warning(address, security);
+  if (!exposure)
+    return "--listen " + address.host + ":" + std::to_string(address.port) +
+           " is not loopback: serving it needs --tls-cert, --tls-key and --tokens, or --insecure";
+  warning = *exposure;
+  return "";
+}
+
+// Serves until SIGTERM or SIGINT (SIGHUP rereads the tokens); the exit code.
+int serve(const kessler::server::ManagerOptions& options, kessler::server::ApiOptions api_options,
+          const Security& security, const kessler::server::ListenAddress& address,
+          const std::string& port_file, sigset_t signals) {
+  using namespace kessler::server;
+  const std::string listen = address.host + ":" + std::to_string(address.port);
+  try {
+    if (!security.tls.cert.empty()) api_options.tls = load_tls(security.tls);
+    auto auth = std::make_shared<Authenticator>(security.tokens_path);
+    api_options.auth = auth;
+    auto parent = std::filesystem::path(options.db_path).parent_path();
+    if (!parent.empty()) std::filesystem::create_directories(parent);
+    RunManager manager(options);
+    ApiServer api(manager, listen, api_options);
+    std::cout << "kesslerd: serving on " << address.host << ":" << api.port()
+              << (api_options.tls ? " (TLS" : " (plaintext")
+              << (api_options.tls && !security.tls.client_ca.empty() ? ", client certificates" : "")
+              << (auth->enabled() ? ", " + std::to_string(auth->size()) + " tokens)" : ", no tokens)")
+              << ", database " << options.db_path << std::endl;
+    if (!api_options.warning.empty()) std::cerr << "kesslerd: WARNING: " << api_options.warning << std::endl;
+    if (!port_file.empty()) {
+      std::string tmp = port_file + ".tmp";
+      std::ofstream(tmp) << api.port() << "\n";
+      std::filesystem::rename(tmp, port_file);
+    }
+    int received = 0;
+    while (sigwait(&signals, &received) == 0 && received == SIGHUP) {
+      try {
+        auth->reload();
+        std::cout << "kesslerd: SIGHUP: " << auth->size() << " tokens from " << security.tokens_path
+                  << std::endl;
+      } catch (const std::exception& e) {
+        std::cerr << "kesslerd: SIGHUP: kept the tokens loaded before: " << e.what() << std::endl;
+      }
+    }
+    std::cout << "kesslerd: " << (received == SIGTERM ? "SIGTERM" : "SIGINT")
+              << ": checkpointing running runs and stopping" << std::endl;
+    manager.shutdown();
+    api.shutdown(2.0);
+    api.wait();
+    std::cout << "kesslerd: stopped" << std::endl;
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "kesslerd: " << e.what() << "\n";
+    return 1;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace kessler::server;
+  if (argc >= 2 && std::string(argv[1]) == "token") return token_command(argc, argv);
   ManagerOptions options;
+  ApiOptions api_options;
+  Security security;
   std::string listen = "127.0.0.1:50051";
   std::string port_file;
   long max_message_mb = 64;
@@ -68,11 +264,18 @@ int main(int argc, char** argv) {
       std::cout << kUsage;
       return 0;
     }
+    if (arg == "--insecure") {
+      security.insecure = true;
+      continue;
+    }
     if (i + 1 >= argc) return usage_error("unknown option or missing value: " + arg);
     std::string value = argv[++i];
     long n = 0;
+    std::string flag_error;
     if (arg == "--listen") {
       listen = value;
+    } else if (security_flag(arg, value, security, api_options.limits, flag_error)) {
+      if (!flag_error.empty()) return usage_error(flag_error);
     } else if (arg == "--db") {
       options.db_path = value;
     } else if (arg == "--runs-at-once") {
@@ -106,38 +309,22 @@ int main(int argc, char** argv) {
     }
   }
 
-  // SIGTERM and SIGINT are taken by sigwait below, not by whichever thread the kernel picks.
+  std::string address_error;
+  auto address = parse_listen_address(listen, address_error);
+  if (!address) return usage_error(address_error);
+  if (auto error = check_exposure(*address, security, api_options.warning); !error.empty())
+    return usage_error(error);
+  api_options.max_message_bytes = static_cast<std::size_t>(max_message_mb) << 20;
+
+  // SIGTERM and SIGINT (stop) and SIGHUP (reread the tokens) are taken by sigwait below, not by
+  // whichever thread the kernel picks.
   sigset_t signals;
   sigemptyset(&signals);
   sigaddset(&signals, SIGTERM);
   sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGHUP);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   tune_allocator_for_runs();
-  try {
-    auto parent = std::filesystem::path(options.db_path).parent_path();
-    if (!parent.empty()) std::filesystem::create_directories(parent);
-    RunManager manager(options);
-    ApiServer api(manager, listen, static_cast<std::size_t>(max_message_mb) << 20);
-    std::string host = listen.substr(0, listen.rfind(':'));
-    std::cout << "kesslerd: serving on " << host << ":" << api.port() << ", database " << options.db_path
-              << std::endl;
-    if (!port_file.empty()) {
-      std::string tmp = port_file + ".tmp";
-      std::ofstream(tmp) << api.port() << "\n";
-      std::filesystem::rename(tmp, port_file);
-    }
-    int received = 0;
-    sigwait(&signals, &received);
-    std::cout << "kesslerd: " << (received == SIGTERM ? "SIGTERM" : "SIGINT")
-              << ": checkpointing running runs and stopping" << std::endl;
-    manager.shutdown();
-    api.shutdown(2.0);
-    api.wait();
-    std::cout << "kesslerd: stopped" << std::endl;
-    return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "kesslerd: " << e.what() << "\n";
-    return 1;
-  }
+  return serve(options, api_options, security, *address, port_file, signals);
 }

@@ -17,6 +17,7 @@
 #include "core/scenario/run_builder.hpp"
 #include "server/conjunction_assessment.hpp"
 #include "server/event_relay.hpp"
+#include "server/request_validation.hpp"
 
 namespace kessler::server {
 namespace {
@@ -98,6 +99,24 @@ double run_length_s(const v1::Run& run) {
 }
 
 }  // namespace
+
+std::uint64_t strip_inline_data(v1::Scenario& scenario) {
+  std::uint64_t bytes = 0;
+  auto take = [&](std::string* field) {
+    bytes += field->size();
+    field->clear();
+    field->shrink_to_fit();
+  };
+  v1::PopulationSource* population = scenario.mutable_population();
+  if (population->has_catalog()) {
+    take(population->mutable_catalog()->mutable_text());
+    take(population->mutable_catalog()->mutable_satcat_csv());
+    take(population->mutable_catalog()->mutable_active_list());
+  }
+  if (population->has_state_table()) take(population->mutable_state_table());
+  if (scenario.has_traffic()) take(scenario.mutable_traffic()->mutable_launch_plan_csv());
+  return bytes;
+}
 
 void tune_allocator_for_runs() {
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
@@ -258,6 +277,7 @@ v1::Scenario RunManager::read_scenario(const v1::Scenario* scenario, const std::
     throw ServiceError(Code::kInvalidArgument, "scenario: missing (give scenario or scenario_text)",
                        "scenario");
   }
+  check_finite_numbers(out, "");  // NaN and infinities, whichever way they came
   return out;
 }
 
@@ -283,7 +303,10 @@ std::optional<v1::IngestReport> RunManager::admit(const v1::Scenario& scenario, 
   return ingest_proto(*ingest);
 }
 
-v1::Run RunManager::submit(const v1::SubmitRunRequest& request) {
+v1::Run RunManager::submit(const v1::SubmitRunRequest& request, const std::string& submitter) {
+  const std::string& request_id = request.request_id();
+  if (!request_id.empty())
+    if (auto id = store_.run_of_request(submitter, request_id)) return get(*id, false);
   const v1::Scenario scenario =
       read_scenario(request.has_scenario() ? &request.scenario() : nullptr,
                     request.has_scenario_text() ? &request.scenario_text() : nullptr);
@@ -293,11 +316,18 @@ v1::Run RunManager::submit(const v1::SubmitRunRequest& request) {
                        "(kessler submit does)",
                        "ensemble");
   std::optional<v1::IngestReport> ingest = admit(scenario, request.threads());
+  // The ingest's buffers (hundreds of MB for a large inline catalog) go back to the system now.
+  if (ingest) malloc_trim(0);
   if (scheduler_->queued() >= options_.queue_limit)
     throw ServiceError(Code::kResourceExhausted, "queue full: " + std::to_string(options_.queue_limit) +
                                                      " runs are waiting; try later");
   int threads = request.threads() > 0 ? request.threads() : options_.threads_per_run;
-  std::int64_t id = store_.create_run(scenario, threads, unix_now_s());
+  std::unique_lock same_request(requests_mutex_, std::defer_lock);
+  if (!request_id.empty()) {
+    same_request.lock();  // a retry racing its first try finds the first run here
+    if (auto existing = store_.run_of_request(submitter, request_id)) return get(*existing, false);
+  }
+  std::int64_t id = store_.create_run(scenario, threads, unix_now_s(), submitter, request_id);
   if (ingest) store_.set_ingest(id, *ingest);
   if (!scheduler_->enqueue(id)) {
     store_.delete_run(id);
@@ -311,6 +341,13 @@ v1::Run RunManager::get(std::int64_t run_id) {
   return get(run_id, true);
 }
 
+v1::Run RunManager::get(const v1::GetRunRequest& request) {
+  v1::Run run = get(request.run_id(), true);
+  if (!request.include_inline_data())
+    run.set_inline_data_omitted_bytes(strip_inline_data(*run.mutable_scenario()));
+  return run;
+}
+
 v1::Run RunManager::get(std::int64_t run_id, bool with_scenario) {
   auto run = store_.get_run(run_id, with_scenario);
   if (!run) throw ServiceError(Code::kNotFound, "run " + std::to_string(run_id) + " not found");
@@ -318,14 +355,14 @@ v1::Run RunManager::get(std::int64_t run_id, bool with_scenario) {
   return *run;
 }
 
-v1::ListRunsResponse RunManager::list(const v1::ListRunsRequest& request) {
+v1::ListRunsResponse RunManager::list(const v1::ListRunsRequest& request, const std::string* submitter) {
   if (request.page_size() < 0)
     throw ServiceError(Code::kInvalidArgument, "page_size: must be >= 0", "page_size");
   std::vector<v1::RunState> states;
   for (int s : request.states()) states.push_back(static_cast<v1::RunState>(s));
   Page<v1::Run> page;
   try {
-    page = store_.list_runs(states, request.page_size(), request.page_token());
+    page = store_.list_runs(states, request.page_size(), request.page_token(), submitter);
   } catch (const std::invalid_argument& e) {
     throw ServiceError(Code::kInvalidArgument, e.what(), "page_token");
   }
@@ -379,8 +416,7 @@ v1::RunStats RunManager::stats(const v1::GetRunStatsRequest& request) {
   if (request.time_bin_s() < 0)
     throw ServiceError(Code::kInvalidArgument, "time_bin_s: must be >= 0", "time_bin_s");
   double length = run_length_s(run);
-  if (request.time_bin_s() > 0 && length / request.time_bin_s() > 1e6)
-    throw ServiceError(Code::kInvalidArgument, "time_bin_s: too small (over a million bins)", "time_bin_s");
+  check_stats_size(length, request.time_bin_s(), static_cast<std::size_t>(request.kappas_size()));
   v1::RunStats stats = store_.run_stats(request, length);
   stats.set_state(run.state());
   if (run.has_summary()) *stats.mutable_timers() = run.summary().timers();

@@ -67,6 +67,10 @@ struct ManagerOptions {
 // third of the checkpoints' time (0.45 s of a 2.2 s run in kessler-bench service). Call once, early.
 void tune_allocator_for_runs();
 
+// Empties the scenario's inline population data (catalog text, SATCAT, active list, state table,
+// inline launch plan) and returns their size in bytes: what GetRun leaves out by default.
+std::uint64_t strip_inline_data(v1::Scenario& scenario);
+
 // Core results in wire form.
 v1::RunSummary to_proto(const RunSummary& summary);
 v1::Encounter to_proto(const Encounter& encounter);
@@ -82,9 +86,15 @@ class RunManager {
   explicit RunManager(const ManagerOptions& options);
   ~RunManager();
 
-  v1::Run submit(const v1::SubmitRunRequest& request);
+  // `submitter`: the caller's token name ("" without tokens), recorded with the run. A request_id the
+  // submitter used before returns that run, whatever the scenario.
+  v1::Run submit(const v1::SubmitRunRequest& request, const std::string& submitter = "");
+  // The run with its scenario whole.
   v1::Run get(std::int64_t run_id);
-  v1::ListRunsResponse list(const v1::ListRunsRequest& request);
+  // GetRun: the scenario without its inline population data unless the request asks for it.
+  v1::Run get(const v1::GetRunRequest& request);
+  // `submitter`: only this submitter's runs (nullptr: everyone's).
+  v1::ListRunsResponse list(const v1::ListRunsRequest& request, const std::string* submitter = nullptr);
   v1::Run cancel(std::int64_t run_id);
   void remove(std::int64_t run_id);
   v1::ListConjunctionsResponse conjunctions(const v1::ListConjunctionsRequest& request);
@@ -94,9 +104,11 @@ class RunManager {
   v1::ListFragmentsResponse fragments(const v1::ListFragmentsRequest& request);
 
   // Ensembles (server/ensembles.cpp).
-  v1::EnsembleReport submit_ensemble(const v1::SubmitEnsembleRequest& request);
+  v1::EnsembleReport submit_ensemble(const v1::SubmitEnsembleRequest& request,
+                                     const std::string& submitter = "");
   v1::EnsembleReport get_ensemble(const v1::GetEnsembleRequest& request);
-  v1::ListEnsemblesResponse list_ensembles(const v1::ListEnsemblesRequest& request);
+  v1::ListEnsemblesResponse list_ensembles(const v1::ListEnsemblesRequest& request,
+                                           const std::string* submitter = nullptr);
   v1::EnsembleReport cancel_ensemble(std::int64_t ensemble_id);
 
   // Streams the run's events after request.after_seq through `write` (false: the client has gone)
@@ -119,6 +131,8 @@ class RunManager {
   std::optional<v1::IngestReport> admit(const v1::Scenario& scenario, int threads);
   // The ensemble without members, series and scenario; NOT_FOUND when there is none.
   v1::EnsembleReport ensemble_head(std::int64_t ensemble_id);
+  // The head with its members (no series or scenario).
+  v1::EnsembleReport get_ensemble_members(std::int64_t ensemble_id);
   // with_scenario false: without the (possibly large) scenario message.
   v1::Run get(std::int64_t run_id, bool with_scenario);
   void execute(std::int64_t run_id, RunControl& control);
@@ -128,6 +142,7 @@ class RunManager {
 
   ManagerOptions options_;
   Store store_;
+  std::mutex requests_mutex_;  // a request id's lookup and its run's creation, together
   std::mutex hubs_mutex_;
   std::map<std::int64_t, std::shared_ptr<EventHub>> hubs_;
   std::atomic<bool> stopping_{false};

@@ -125,6 +125,17 @@ const char* const kMigrations[] = {
     ALTER TABLE runs ADD COLUMN member_index INTEGER NOT NULL DEFAULT 0;
     CREATE INDEX runs_by_ensemble ON runs(ensemble_id, member_index) WHERE ensemble_id != 0;
     )sql",
+    // Who submitted each run and ensemble (a token's name; '' without tokens), and the client's request
+    // id of a submission, so a retry finds the first run.
+    R"sql(
+    ALTER TABLE runs ADD COLUMN submitter TEXT NOT NULL DEFAULT '';
+    ALTER TABLE runs ADD COLUMN request_id TEXT;
+    CREATE UNIQUE INDEX runs_by_request ON runs(submitter, request_id) WHERE request_id IS NOT NULL;
+    CREATE INDEX runs_by_submitter ON runs(submitter, state);
+    ALTER TABLE ensembles ADD COLUMN submitter TEXT NOT NULL DEFAULT '';
+    ALTER TABLE ensembles ADD COLUMN request_id TEXT;
+    CREATE UNIQUE INDEX ensembles_by_request ON ensembles(submitter, request_id) WHERE request_id IS NOT NULL;
+    )sql",
 };
 constexpr int kMigrationCount = sizeof(kMigrations) / sizeof(kMigrations[0]);
 static_assert(kMigrationCount == Store::kSchemaVersion);

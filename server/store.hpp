@@ -55,6 +55,7 @@ struct StoredEnsemble {
   double created_unix_s = 0.0;
   std::uint64_t members = 0;
   std::uint64_t base_seed = 0;
+  std::string submitter;
   v1::Scenario scenario;  // as submitted (when asked for)
 };
 
@@ -87,16 +88,29 @@ class Store {
   Store(const Store&) = delete;
   Store& operator=(const Store&) = delete;
 
-  static constexpr int kSchemaVersion = 5;
+  static constexpr int kSchemaVersion = 6;
   int schema_version();
 
-  // Runs. The id is assigned here.
-  std::int64_t create_run(const v1::Scenario& scenario, int threads, double created_unix_s);
+  // Runs. The id is assigned here. `submitter`: the token's name ("" without tokens); `request_id`:
+  // the client's id of the submission ("" for none), unique per submitter.
+  std::int64_t create_run(const v1::Scenario& scenario, int threads, double created_unix_s,
+                          const std::string& submitter = "", const std::string& request_id = "");
+  // The run a submitter created with this request id, if any.
+  std::optional<std::int64_t> run_of_request(const std::string& submitter, const std::string& request_id);
+  // The ensemble a submitter created with this request id, if any.
+  std::optional<std::int64_t> ensemble_of_request(const std::string& submitter,
+                                                  const std::string& request_id);
+  // Who submitted the run (nullopt: no such run).
+  std::optional<std::string> run_submitter(std::int64_t run_id);
+  std::optional<std::string> ensemble_submitter(std::int64_t ensemble_id);
+  // The submitter's runs that are queued or running.
+  std::uint64_t active_runs_of(const std::string& submitter);
   // nullopt when there is no such run. with_scenario: also decode the stored scenario.
   std::optional<v1::Run> get_run(std::int64_t run_id, bool with_scenario = true);
   // Newest first; page token is the last id of the previous page.
+  // `submitter`: only this submitter's runs (nullptr: everyone's).
   Page<v1::Run> list_runs(const std::vector<v1::RunState>& states, int page_size,
-                          const std::string& page_token);
+                          const std::string& page_token, const std::string* submitter = nullptr);
   // Ids of the runs in a state, oldest first (for recovery at start).
   std::vector<std::int64_t> runs_in_state(v1::RunState state);
   void set_running(std::int64_t run_id, double started_unix_s);
@@ -118,10 +132,14 @@ class Store {
   std::pair<std::int64_t, std::vector<std::int64_t>> create_ensemble(const v1::Scenario& submitted,
                                                                      const std::vector<v1::Scenario>& members,
                                                                      int threads, std::uint64_t base_seed,
-                                                                     double created_unix_s);
+                                                                     double created_unix_s,
+                                                                     const std::string& submitter = "",
+                                                                     const std::string& request_id = "");
   std::optional<StoredEnsemble> get_ensemble(std::int64_t ensemble_id, bool with_scenario = true);
   // Newest first; the page token is the last id of the previous page.
-  Page<StoredEnsemble> list_ensembles(int page_size, const std::string& page_token);
+  // `submitter`: only this submitter's ensembles (nullptr: everyone's).
+  Page<StoredEnsemble> list_ensembles(int page_size, const std::string& page_token,
+                                      const std::string* submitter = nullptr);
   // The member runs still stored, by index (without their scenarios).
   std::vector<v1::Run> ensemble_runs(std::int64_t ensemble_id);
   // Counts of the member runs by state.

@@ -12,7 +12,7 @@ using namespace detail;
 
 namespace {
 
-const char* const kEnsembleColumns = "id, name, created_unix_s, members, base_seed";
+const char* const kEnsembleColumns = "id, name, created_unix_s, members, base_seed, submitter";
 
 StoredEnsemble ensemble_from_row(const Statement& s) {
   StoredEnsemble e;
@@ -21,6 +21,7 @@ StoredEnsemble ensemble_from_row(const Statement& s) {
   e.created_unix_s = s.f64(2);
   e.members = static_cast<std::uint64_t>(s.i64(3));
   e.base_seed = static_cast<std::uint64_t>(s.i64(4));
+  e.submitter = s.text(5);
   return e;
 }
 
@@ -28,21 +29,28 @@ StoredEnsemble ensemble_from_row(const Statement& s) {
 
 std::pair<std::int64_t, std::vector<std::int64_t>> Store::create_ensemble(
     const v1::Scenario& submitted, const std::vector<v1::Scenario>& members, int threads,
-    std::uint64_t base_seed, double created_unix_s) {
+    std::uint64_t base_seed, double created_unix_s, const std::string& submitter,
+    const std::string& request_id) {
   Lease lease(*this);
   exec(lease.db(), "BEGIN IMMEDIATE");
   try {
-    Statement s(lease.db(),
-                "INSERT INTO ensembles(name, scenario, members, base_seed, created_unix_s) VALUES(?, ?, ?, ?, ?)");
+    Statement s(
+        lease.db(),
+        "INSERT INTO ensembles(name, scenario, members, base_seed, created_unix_s, submitter, request_id) "
+        "VALUES(?, ?, ?, ?, ?, ?, ?)");
     const std::string bytes = submitted.SerializeAsString();
     s.bind(1, submitted.name()).bind_blob(2, bytes).bind(3, static_cast<std::uint64_t>(members.size()));
-    s.bind(4, base_seed).bind(5, created_unix_s);
+    s.bind(4, base_seed).bind(5, created_unix_s).bind(6, submitter);
+    if (request_id.empty())
+      s.bind_null(7);
+    else
+      s.bind(7, request_id);
     s.run();
     const std::int64_t id = sqlite3_last_insert_rowid(lease.db());
     std::vector<std::int64_t> runs;
     runs.reserve(members.size());
     for (std::size_t k = 0; k < members.size(); ++k)
-      runs.push_back(insert_run(lease.db(), members[k], threads, created_unix_s, id, k));
+      runs.push_back(insert_run(lease.db(), members[k], threads, created_unix_s, id, k, submitter, ""));
     exec(lease.db(), "COMMIT");
     return {id, runs};
   } catch (...) {
@@ -57,11 +65,12 @@ std::optional<StoredEnsemble> Store::get_ensemble(std::int64_t ensemble_id, bool
   s.bind(1, ensemble_id);
   if (!s.step()) return std::nullopt;
   StoredEnsemble e = ensemble_from_row(s);
-  if (with_scenario) e.scenario.ParseFromString(s.text(5));
+  if (with_scenario) e.scenario.ParseFromString(s.text(6));
   return e;
 }
 
-Page<StoredEnsemble> Store::list_ensembles(int page_size, const std::string& page_token) {
+Page<StoredEnsemble> Store::list_ensembles(int page_size, const std::string& page_token,
+                                           const std::string* submitter) {
   page_size = page_size <= 0 ? 50 : std::min(page_size, 1000);
   std::int64_t before = INT64_MAX;
   if (!page_token.empty()) {
@@ -74,9 +83,10 @@ Page<StoredEnsemble> Store::list_ensembles(int page_size, const std::string& pag
     if (used != page_token.size()) throw std::invalid_argument("page_token: not a token from a previous page");
   }
   Lease lease(*this);
-  Statement s(lease.db(), std::string("SELECT ") + kEnsembleColumns +
-                              " FROM ensembles WHERE id < ? ORDER BY id DESC LIMIT ?");
+  Statement s(lease.db(), std::string("SELECT ") + kEnsembleColumns + " FROM ensembles WHERE id < ?" +
+                              (submitter ? " AND submitter = ?3" : "") + " ORDER BY id DESC LIMIT ?2");
   s.bind(1, before).bind(2, page_size + 1);
+  if (submitter) s.bind(3, *submitter);
   Page<StoredEnsemble> page;
   while (s.step()) page.items.push_back(ensemble_from_row(s));
   if (static_cast<int>(page.items.size()) > page_size) {

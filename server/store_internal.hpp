@@ -103,7 +103,8 @@ void count_lifecycle_events(sqlite3* db, std::int64_t run_id, v1::RunStats& stat
 // Runs (store_runs.cpp): a new queued run's row, and the columns a Run is read from (run_row takes a
 // statement that selected kRunColumnsSql first).
 std::int64_t insert_run(sqlite3* db, const v1::Scenario& scenario, int threads, double created_unix_s,
-                        std::int64_t ensemble_id, std::uint64_t member_index);
+                        std::int64_t ensemble_id, std::uint64_t member_index, const std::string& submitter,
+                        const std::string& request_id);
 extern const char* const kRunColumnsSql;
 v1::Run run_row(const Statement& s);
 

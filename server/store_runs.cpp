@@ -12,21 +12,77 @@ using namespace detail;
 
 // ---- runs ----
 
-std::int64_t Store::create_run(const v1::Scenario& scenario, int threads, double created_unix_s) {
+std::int64_t Store::create_run(const v1::Scenario& scenario, int threads, double created_unix_s,
+                               const std::string& submitter, const std::string& request_id) {
   Lease lease(*this);
-  return insert_run(lease.db(), scenario, threads, created_unix_s, 0, 0);
+  return insert_run(lease.db(), scenario, threads, created_unix_s, 0, 0, submitter, request_id);
+}
+
+namespace {
+
+std::optional<std::int64_t> id_of_request(sqlite3* db, const char* table, const std::string& submitter,
+                                          const std::string& request_id) {
+  Statement s(db, std::string("SELECT id FROM ") + table + " WHERE submitter = ? AND request_id = ?");
+  s.bind(1, submitter).bind(2, request_id);
+  if (!s.step()) return std::nullopt;
+  return s.i64(0);
+}
+
+std::optional<std::string> submitter_of(sqlite3* db, const char* table, std::int64_t id) {
+  Statement s(db, std::string("SELECT submitter FROM ") + table + " WHERE id = ?");
+  s.bind(1, id);
+  if (!s.step()) return std::nullopt;
+  return s.text(0);
+}
+
+}  // namespace
+
+std::optional<std::int64_t> Store::run_of_request(const std::string& submitter,
+                                                  const std::string& request_id) {
+  Lease lease(*this);
+  return id_of_request(lease.db(), "runs", submitter, request_id);
+}
+
+std::optional<std::int64_t> Store::ensemble_of_request(const std::string& submitter,
+                                                       const std::string& request_id) {
+  Lease lease(*this);
+  return id_of_request(lease.db(), "ensembles", submitter, request_id);
+}
+
+std::optional<std::string> Store::run_submitter(std::int64_t run_id) {
+  Lease lease(*this);
+  return submitter_of(lease.db(), "runs", run_id);
+}
+
+std::optional<std::string> Store::ensemble_submitter(std::int64_t ensemble_id) {
+  Lease lease(*this);
+  return submitter_of(lease.db(), "ensembles", ensemble_id);
+}
+
+std::uint64_t Store::active_runs_of(const std::string& submitter) {
+  Lease lease(*this);
+  Statement s(lease.db(), "SELECT COUNT(*) FROM runs WHERE submitter = ? AND state IN (?, ?)");
+  s.bind(1, submitter)
+      .bind(2, static_cast<int>(v1::RUN_STATE_QUEUED))
+      .bind(3, static_cast<int>(v1::RUN_STATE_RUNNING));
+  return s.step() ? static_cast<std::uint64_t>(s.i64(0)) : 0;
 }
 
 namespace detail {
 
 std::int64_t insert_run(sqlite3* db, const v1::Scenario& scenario, int threads, double created_unix_s,
-                        std::int64_t ensemble_id, std::uint64_t member_index) {
+                        std::int64_t ensemble_id, std::uint64_t member_index, const std::string& submitter,
+                        const std::string& request_id) {
   Statement s(db,
-              "INSERT INTO runs(name, state, scenario, threads, created_unix_s, ensemble_id, member_index) "
-              "VALUES(?, ?, ?, ?, ?, ?, ?)");
+              "INSERT INTO runs(name, state, scenario, threads, created_unix_s, ensemble_id, member_index, "
+              "submitter, request_id) VALUES(?, ?, ?, ?, ?, ?, ?, ?, ?)");
   std::string bytes = scenario.SerializeAsString();
   s.bind(1, scenario.name()).bind(2, static_cast<int>(v1::RUN_STATE_QUEUED)).bind_blob(3, bytes);
-  s.bind(4, threads).bind(5, created_unix_s).bind(6, ensemble_id).bind(7, member_index);
+  s.bind(4, threads).bind(5, created_unix_s).bind(6, ensemble_id).bind(7, member_index).bind(8, submitter);
+  if (request_id.empty())
+    s.bind_null(9);
+  else
+    s.bind(9, request_id);
   s.run();
   return sqlite3_last_insert_rowid(db);
 }
@@ -37,7 +93,7 @@ namespace {
 
 const char* const kRunColumns =
     "id, name, state, threads, created_unix_s, started_unix_s, finished_unix_s, error, summary, ingest, "
-    "ensemble_id, member_index";
+    "ensemble_id, member_index, submitter";
 
 v1::Run run_from_row(const Statement& s) {
   v1::Run run;
@@ -53,6 +109,7 @@ v1::Run run_from_row(const Statement& s) {
   if (!s.is_null(9)) run.mutable_ingest()->ParseFromString(s.text(9));
   run.set_ensemble_id(s.i64(10));
   run.set_member_index(static_cast<std::uint64_t>(s.i64(11)));
+  run.set_submitter(s.text(12));
   return run;
 }
 
@@ -71,7 +128,7 @@ std::optional<v1::Run> Store::get_run(std::int64_t run_id, bool with_scenario) {
   s.bind(1, run_id);
   if (!s.step()) return std::nullopt;
   v1::Run run = run_from_row(s);
-  if (with_scenario) run.mutable_scenario()->ParseFromString(s.text(12));
+  if (with_scenario) run.mutable_scenario()->ParseFromString(s.text(13));
   Statement last(lease.db(), "SELECT MAX(seq) FROM events WHERE run_id = ?");
   last.bind(1, run_id);
   if (last.step() && !last.is_null(0)) run.set_last_seq(static_cast<std::uint64_t>(last.i64(0)));
@@ -86,7 +143,7 @@ std::optional<v1::Run> Store::get_run(std::int64_t run_id, bool with_scenario) {
 }
 
 Page<v1::Run> Store::list_runs(const std::vector<v1::RunState>& states, int page_size,
-                               const std::string& page_token) {
+                               const std::string& page_token, const std::string* submitter) {
   page_size = page_size <= 0 ? 50 : std::min(page_size, 1000);
   std::int64_t before = INT64_MAX;
   if (!page_token.empty()) {
@@ -102,12 +159,14 @@ Page<v1::Run> Store::list_runs(const std::vector<v1::RunState>& states, int page
     for (std::size_t i = 0; i < states.size(); ++i) sql += (i ? ",?" : "?");
     sql += ")";
   }
+  if (submitter) sql += " AND submitter = ?";
   sql += " ORDER BY id DESC LIMIT ?";
   Lease lease(*this);
   Statement s(lease.db(), sql);
   int i = 1;
   s.bind(i++, before);
   for (auto state : states) s.bind(i++, static_cast<int>(state));
+  if (submitter) s.bind(i++, *submitter);
   s.bind(i++, page_size + 1);
   Page<v1::Run> page;
   while (s.step()) page.items.push_back(run_from_row(s));

@@ -26,12 +26,15 @@ int health(const HealthOptions& o, const GlobalOptions& global) {
     std::cerr << "kessler health: " << r.describe() << "\n";
     return kExitFailure;
   }
-  if (format == OutputFormat::kJson)
-    std::cout
-        << JsonObject().add("server", client.address()).add("service", o.service).add("status", status).str()
-        << "\n";
-  else
+  if (format == OutputFormat::kJson) {
+    JsonObject json;
+    json.add("server", client.address()).add("service", o.service).add("status", status);
+    if (!r.warning.empty()) json.add("warning", r.warning);
+    std::cout << json.str() << "\n";
+  } else {
     std::cout << status << "\n";
+    if (!r.warning.empty()) std::cout << "warning: " << r.warning << "\n";
+  }
   return status == "SERVING" ? kExitOk : kExitFailure;
 }
 

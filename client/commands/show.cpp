@@ -130,10 +130,10 @@ int show(const ShowOptions& o, const GlobalOptions& global) {
     std::cerr << "kessler show: " << r.describe() << "\n";
     return r.exit_code();
   }
-  // An inline catalog can be megabytes: show its size, not its text.
+  // An inline catalog can be megabytes: the daemon leaves it out of GetRun and says its size.
   if (run.scenario().population().has_catalog()) {
     auto* catalog = run.mutable_scenario()->mutable_population()->mutable_catalog();
-    catalog->set_text("<" + std::to_string(catalog->text().size()) + " bytes inline>");
+    catalog->set_text("<" + std::to_string(run.inline_data_omitted_bytes()) + " bytes inline>");
   }
   if (format == OutputFormat::kJson) {
     std::cout << JsonObject().add_raw("run", to_json(run)).add_raw("stats", to_json(stats)).str() << "\n";

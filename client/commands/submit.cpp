@@ -1,10 +1,12 @@
 // kessler submit FILE: queues a run of a scenario on kesslerd and, with --watch, follows it to its end;
 // with --members N (or a scenario with an ensemble) queues a Monte Carlo ensemble of N runs instead.
+#include <chrono>
 #include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <thread>
 
 #include "client/command.hpp"
 #include "client/commands/follow.hpp"
@@ -20,6 +22,7 @@ struct SubmitOptions {
   bool watch = false;
   int threads = -1;  // -1: not given (the daemon's --threads)
   std::int64_t members = -1;  // -1: not given (the scenario's ensemble, if any)
+  std::string request_id;     // empty: a fresh one
   WatchOptions follow;
 };
 
@@ -63,6 +66,19 @@ bool wants_ensemble(const SubmitOptions& o, const v1::SubmitRunRequest& request)
   return !parse_scenario(request.scenario_text(), scenario) && scenario.has_ensemble();
 }
 
+// Sends the submission until it is answered: a daemon away or an answer lost (UNAVAILABLE,
+// DEADLINE_EXCEEDED) is tried again with the same request id for up to --retry-s seconds, so a
+// retry that reaches a daemon which had queued the first try gets that run back, not a second one.
+template <typename Call>
+CallResult submit_with_retry(const SubmitOptions& o, Call&& call) {
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::duration<double>(o.follow.retry_s);
+  for (;;) {
+    CallResult r = call();
+    if (r.ok || !r.retryable() || std::chrono::steady_clock::now() >= give_up) return r;
+    std::this_thread::sleep_for(std::chrono::seconds(1));
+  }
+}
+
 int submit_ensemble(const SubmitOptions& o, const v1::SubmitRunRequest& run_request, OutputFormat format,
                     RemoteClient& client) {
   if (o.watch) return usage_error("submit", "--watch follows one run; an ensemble's members are runs to watch");
@@ -70,9 +86,10 @@ int submit_ensemble(const SubmitOptions& o, const v1::SubmitRunRequest& run_requ
   if (run_request.has_scenario()) *request.mutable_scenario() = run_request.scenario();
   else request.set_scenario_text(run_request.scenario_text());
   request.set_threads(run_request.threads());
+  request.set_request_id(run_request.request_id());
   if (o.members > 0) request.set_members(static_cast<std::uint64_t>(o.members));
   v1::EnsembleReport ensemble;
-  CallResult r = client.submit_ensemble(request, ensemble);
+  CallResult r = submit_with_retry(o, [&] { return client.submit_ensemble(request, ensemble); });
   if (!r.ok) {
     std::cerr << "kessler submit: " << o.scenario_path << ": " << r.describe() << "\n";
     return r.exit_code();
@@ -104,10 +121,11 @@ int submit(const SubmitOptions& o, const GlobalOptions& global) {
   }
   v1::SubmitRunRequest request;
   if (auto exit = make_request(o, request)) return *exit;
+  request.set_request_id(o.request_id.empty() ? new_request_id() : o.request_id);
   RemoteClient client(server_address(global.server));
   if (wants_ensemble(o, request)) return submit_ensemble(o, request, format, client);
   v1::Run run;
-  CallResult r = client.submit(request, run);
+  CallResult r = submit_with_retry(o, [&] { return client.submit(request, run); });
   if (!r.ok) {
     std::cerr << "kessler submit: " << o.scenario_path << ": " << r.describe() << "\n";
     return r.exit_code();
@@ -148,6 +166,11 @@ CommandRun setup_submit(CLI::App& command, GlobalOptions& global) {
                   "the scenario's ensemble.members)")
       ->option_text("N")
       ->check(CLI::NonNegativeNumber);
+  command
+      .add_option("--request-id", o->request_id,
+                  "the submission's id (default: a fresh random one); sending the same id again returns the "
+                  "run it made instead of queueing another")
+      ->option_text("ID");
   add_watch_options(command, o->follow);
   add_global_options(command, global, kWatchOutputHelp);
   command.footer(
@@ -155,7 +178,9 @@ CommandRun setup_submit(CLI::App& command, GlobalOptions& global) {
       "the "
       "run's id; with --watch, follows the run live to its end like 'kessler watch'. With --members N, or "
       "a scenario with ensemble.members, queues an ensemble of N runs that differ only in their seed and "
-      "prints the ensemble's id ('kessler ensemble show ID' aggregates the members)."
+      "prints the ensemble's id ('kessler ensemble show ID' aggregates the members). A submission the "
+      "daemon did not answer (away, or the answer lost) is sent again with the same request id for up to "
+      "--retry-s seconds: a retry never queues a second run."
       "\n\n"
       "examples:\n"
       "  kessler submit deploy/scenarios/paper-1day.yaml --watch\n"

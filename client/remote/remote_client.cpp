@@ -6,7 +6,12 @@
 #include <grpcpp/grpcpp.h>
 
 #include <cstdlib>
+#include <fstream>
 #include <future>
+#include <iomanip>
+#include <random>
+#include <sstream>
+#include <stdexcept>
 
 #include "kessler/v1/service.grpc.pb.h"
 
@@ -33,6 +38,10 @@ const char* code_name(grpc::StatusCode code) {
       return "UNAVAILABLE";
     case grpc::StatusCode::INTERNAL:
       return "INTERNAL";
+    case grpc::StatusCode::UNAUTHENTICATED:
+      return "UNAUTHENTICATED";
+    case grpc::StatusCode::PERMISSION_DENIED:
+      return "PERMISSION_DENIED";
     default:
       return "ERROR";
   }
@@ -40,6 +49,9 @@ const char* code_name(grpc::StatusCode code) {
 
 CallResult result_of(const grpc::Status& status, const grpc::ClientContext& context) {
   CallResult r;
+  const auto& initial = context.GetServerInitialMetadata();
+  auto warning = initial.find("kessler-warning");
+  if (warning != initial.end()) r.warning = std::string(warning->second.data(), warning->second.size());
   r.ok = status.ok();
   r.code = static_cast<int>(status.error_code());
   r.code_name = code_name(status.error_code());
@@ -50,7 +62,78 @@ CallResult result_of(const grpc::Status& status, const grpc::ClientContext& cont
   return r;
 }
 
+ConnectionOptions& connection() {
+  static ConnectionOptions options;
+  return options;
+}
+
+std::string flag_or_env(const std::string& flag, const char* env) {
+  if (!flag.empty()) return flag;
+  const char* value = std::getenv(env);
+  return value ? value : "";
+}
+
+std::string read_pem(const std::string& path, const char* what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(std::string(what) + " " + path + ": cannot read");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::shared_ptr<grpc::ChannelCredentials> channel_credentials() {
+  const ConnectionOptions& o = connection();
+  if (o.tls_ca.empty()) return grpc::InsecureChannelCredentials();
+  grpc::SslCredentialsOptions ssl;
+  ssl.pem_root_certs = read_pem(o.tls_ca, "--tls-ca");
+  if (!o.tls_cert.empty()) {
+    ssl.pem_cert_chain = read_pem(o.tls_cert, "--tls-cert");
+    ssl.pem_private_key = read_pem(o.tls_key, "--tls-key");
+  }
+  return grpc::SslCredentials(ssl);
+}
+
+// The token, if any, on every call.
+void authorize(grpc::ClientContext& context) {
+  if (!connection().token.empty()) context.AddMetadata("authorization", "Bearer " + connection().token);
+}
+
 }  // namespace
+
+bool set_connection_options(const ConnectionOptions& flags, std::string& error) {
+  ConnectionOptions& o = connection();
+  o.token = flag_or_env(flags.token, "KESSLER_TOKEN");
+  o.tls_ca = flag_or_env(flags.tls_ca, "KESSLER_TLS_CA");
+  o.tls_cert = flag_or_env(flags.tls_cert, "KESSLER_TLS_CERT");
+  o.tls_key = flag_or_env(flags.tls_key, "KESSLER_TLS_KEY");
+  if (o.tls_cert.empty() != o.tls_key.empty()) {
+    error = "--tls-cert and --tls-key go together";
+    return false;
+  }
+  if (!o.tls_cert.empty() && o.tls_ca.empty()) {
+    error = "--tls-cert needs --tls-ca (the CA of the daemon's certificate)";
+    return false;
+  }
+  try {
+    channel_credentials();  // the files are readable
+  } catch (const std::exception& e) {
+    error = e.what();
+    return false;
+  }
+  return true;
+}
+
+const ConnectionOptions& connection_options() {
+  return connection();
+}
+
+std::string new_request_id() {
+  std::random_device device;
+  std::ostringstream out;
+  out << std::hex << std::setfill('0');
+  for (int i = 0; i < 4; ++i) out << std::setw(8) << device();
+  return out.str();
+}
 
 std::string server_address(const std::string& flag_value) {
   if (!flag_value.empty()) return flag_value;
@@ -77,7 +160,7 @@ RemoteClient::RemoteClient(const std::string& address) : address_(address), impl
   grpc::ChannelArguments args;
   args.SetMaxReceiveMessageSize(512 << 20);
   args.SetMaxSendMessageSize(-1);
-  impl_->channel = grpc::CreateCustomChannel(address, grpc::InsecureChannelCredentials(), args);
+  impl_->channel = grpc::CreateCustomChannel(address, channel_credentials(), args);
   impl_->stub = v1::KesslerService::NewStub(impl_->channel);
 }
 
@@ -90,6 +173,7 @@ template <class Stub, class Request, class Response>
 CallResult unary(Stub& stub, grpc::Status (Stub::*method)(grpc::ClientContext*, const Request&, Response*),
                  const Request& request, Response& response) {
   grpc::ClientContext context;
+  authorize(context);
   context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(300));
   const grpc::Status status = (stub.*method)(&context, request, &response);
   return result_of(status, context);
@@ -175,6 +259,7 @@ CallResult RemoteClient::health(const std::string& service, double timeout_s, st
   grpc::ByteBuffer in(&slice, 1), out;
   grpc::GenericStub generic(impl_->channel);
   grpc::ClientContext context;
+  authorize(context);
   context.set_deadline(std::chrono::system_clock::now() +
                        std::chrono::milliseconds(static_cast<long>(timeout_s * 1000)));
   std::promise<grpc::Status> done;
@@ -201,6 +286,7 @@ CallResult RemoteClient::health(const std::string& service, double timeout_s, st
 CallResult RemoteClient::watch(const v1::WatchRunRequest& request,
                                const std::function<bool(const v1::RunEvent&)>& on_event) {
   grpc::ClientContext context;
+  authorize(context);
   auto reader = impl_->stub->WatchRun(&context, request);
   v1::RunEvent event;
   while (reader->Read(&event)) {

@@ -13,13 +13,34 @@ namespace kessler::cli {
 // --server, else $KESSLER_SERVER, else 127.0.0.1:50051.
 std::string server_address(const std::string& flag_value);
 
+// How every RemoteClient of the process connects: the bearer token (--token, else $KESSLER_TOKEN) and
+// TLS (--tls-ca FILE, else $KESSLER_TLS_CA: the CA that signed the daemon's certificate; with
+// --tls-cert/--tls-key, else $KESSLER_TLS_CERT/$KESSLER_TLS_KEY, a client certificate for mutual TLS).
+// No CA: plaintext.
+struct ConnectionOptions {
+  std::string token;
+  std::string tls_ca;
+  std::string tls_cert;
+  std::string tls_key;
+};
+// The flags' values (empty: not given) with the environment filled in. False with `error` set when a
+// file cannot be read.
+bool set_connection_options(const ConnectionOptions& flags, std::string& error);
+const ConnectionOptions& connection_options();
+
+// A fresh request id for a submission: 32 hex digits from std::random_device.
+std::string new_request_id();
+
 struct CallResult {
   bool ok = true;
   int code = 0;           // gRPC status code
   std::string code_name;  // "INVALID_ARGUMENT", ...
   std::string message;
   std::string field_path;  // for INVALID_ARGUMENT, when the daemon named a field
+  std::string warning;     // the daemon's "kessler-warning" (e.g. serving a public address insecurely)
   bool unavailable() const { return code == 14; }
+  // Worth sending again with the same request id: the daemon was away or the answer did not come.
+  bool retryable() const { return code == 14 || code == 4; }
   // Exit code: 2 for a refused input (INVALID_ARGUMENT), 1 for everything else.
   int exit_code() const;
   std::string describe() const;  // "INVALID_ARGUMENT: dt_s: must be positive"

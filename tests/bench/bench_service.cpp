@@ -27,6 +27,7 @@
 #include "core/scenario/run_builder.hpp"
 #include "kessler/v1/service.grpc.pb.h"
 #include "server/api_server.hpp"
+#include "server/auth.hpp"
 #include "server/run_manager.hpp"
 #include "server/store.hpp"
 #include "tests/bench/bench.hpp"
@@ -149,8 +150,10 @@ Measured in_process(const v1::Scenario& scenario, int threads, bool checkpoints 
 
 // The same scenario through a RunManager and its gRPC server in this process, over loopback, with
 // `watchers` clients streaming WatchRun from the submission on.
+// secure: over TLS (the test CA's localhost certificate, tests/data/tls) with a submit token on every
+// call, as a daemon facing a network serves; else plaintext without tokens.
 Measured through_daemon(const v1::Scenario& scenario, int threads, int watchers, int gather_ms,
-                        int checkpoint_write_ms) {
+                        int checkpoint_write_ms, bool secure = false) {
   std::string dir = temp_dir();
   server::ManagerOptions options;
   options.db_path = dir + "/bench.db";
@@ -161,10 +164,25 @@ Measured through_daemon(const v1::Scenario& scenario, int threads, int watchers,
   Measured result;
   {
     server::RunManager manager(options);
-    server::ApiServer api(manager, "127.0.0.1:0", 64u << 20);
+    server::ApiOptions api_options;
+    std::string token;
+    std::shared_ptr<grpc::ChannelCredentials> credentials = grpc::InsecureChannelCredentials();
+    if (secure) {
+      const std::string tls = std::string(KESSLER_BENCH_TEST_DATA_DIR) + "/tls/";
+      api_options.tls = server::load_tls({tls + "server.pem", tls + "server.key", ""});
+      token = server::create_token(dir + "/tokens", "bench", server::Role::kSubmit);
+      api_options.auth = std::make_shared<const server::Authenticator>(dir + "/tokens");
+      grpc::SslCredentialsOptions ssl;
+      ssl.pem_root_certs = read_file(tls + "ca.pem");
+      credentials = grpc::SslCredentials(ssl);
+    }
+    server::ApiServer api(manager, "127.0.0.1:0", api_options);
     auto channel =
-        grpc::CreateChannel("127.0.0.1:" + std::to_string(api.port()), grpc::InsecureChannelCredentials());
+        grpc::CreateChannel((secure ? "localhost:" : "127.0.0.1:") + std::to_string(api.port()), credentials);
     auto stub = v1::KesslerService::NewStub(channel);
+    auto authorize = [&](grpc::ClientContext& context) {
+      if (!token.empty()) context.AddMetadata("authorization", "Bearer " + token);
+    };
     v1::SubmitRunRequest request;
     *request.mutable_scenario() = scenario;
     request.set_threads(threads);
@@ -175,6 +193,7 @@ Measured through_daemon(const v1::Scenario& scenario, int threads, int watchers,
         std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
     const double t0 = now_s();
     grpc::ClientContext submit_context;
+    authorize(submit_context);
     auto status = stub->SubmitRun(&submit_context, request, &run);
     if (!status.ok()) throw std::runtime_error("submit: " + status.error_message());
     std::vector<std::thread> clients;
@@ -184,6 +203,7 @@ Measured through_daemon(const v1::Scenario& scenario, int threads, int watchers,
     for (int w = 0; w < watchers; ++w) {
       clients.emplace_back([&, w] {
         grpc::ClientContext context;
+        authorize(context);
         v1::WatchRunRequest watch;
         watch.set_run_id(run.id());
         auto reader = stub->WatchRun(&context, watch);
@@ -206,6 +226,7 @@ Measured through_daemon(const v1::Scenario& scenario, int threads, int watchers,
       // No watcher: the run's end as GetRun sees it, polled every 10 ms.
       for (;;) {
         grpc::ClientContext context;
+        authorize(context);
         v1::GetRunRequest get;
         get.set_run_id(run.id());
         v1::Run now;
@@ -227,6 +248,7 @@ Measured through_daemon(const v1::Scenario& scenario, int threads, int watchers,
     result.store_cpu_s = delta("kessler-store");
     result.other_cpu_s = process_cpu - result.run_cpu_s;
     grpc::ClientContext get_context;
+    authorize(get_context);
     v1::GetRunRequest get;
     get.set_run_id(run.id());
     stub->GetRun(&get_context, get, &run);
@@ -290,7 +312,8 @@ int bench_service(int argc, char** argv) {
   server::tune_allocator_for_runs();
   Args args(argc, argv);
   args.allow_only({"--scenario", "--objects", "--screening-km", "--checkpoint-every-steps", "--watchers",
-                   "--repeats", "--threads", "--store-events", "--relay-gather-ms", "--checkpoint-write-ms"});
+                   "--repeats", "--threads", "--store-events", "--relay-gather-ms", "--checkpoint-write-ms",
+                   "--tls"});
   std::string path =
       args.get("--scenario", std::string(KESSLER_DATASETS_DIR) + "/../scenarios/synthetic-small.yaml");
   const auto objects = args.get_int("--objects", 8000);                        // 0: as the scenario file says
@@ -303,6 +326,8 @@ int bench_service(int argc, char** argv) {
   // The daemon's knobs, -1: its defaults.
   const int gather_ms = static_cast<int>(args.get_int("--relay-gather-ms", -1));
   const int checkpoint_write_ms = static_cast<int>(args.get_int("--checkpoint-write-ms", -1));
+  // 1: each repeat also runs the daemon over TLS with a token, against the plaintext one.
+  const bool tls = args.get_int("--tls", 0) != 0;
   if (watchers < 0 || repeats < 1 || threads < 1 || objects < 0 || screening_km < 0 ||
       checkpoint_every < -1) {
     std::cerr << "kessler-bench service: --watchers >= 0, --repeats >= 1, --threads >= 1, --objects >= 0, "
@@ -336,8 +361,26 @@ int bench_service(int argc, char** argv) {
   for (int r = 0; r < repeats; ++r) {
     // Alternate which goes first, so warm caches and load drifts fall on both sides alike.
     if (r % 2 == 0) local = in_process(scenario, threads);
+    Measured secure;
+    if (tls && r % 2 == 1)
+      secure = through_daemon(scenario, threads, watchers, gather_ms, checkpoint_write_ms, true);
     daemon = through_daemon(scenario, threads, watchers, gather_ms, checkpoint_write_ms);
+    if (tls && r % 2 == 0)
+      secure = through_daemon(scenario, threads, watchers, gather_ms, checkpoint_write_ms, true);
     if (r % 2 == 1) local = in_process(scenario, threads);
+    if (tls) {
+      f["tls_wall"].push_back(secure.wall_s);
+      f["tls_ratio"].push_back(secure.wall_s / daemon.wall_s);
+      f["tls_other_cpu"].push_back(secure.other_cpu_s);
+      // The daemon's CPU (run and every other thread): what TLS and tokens cost, unskewed by other load.
+      f["tls_cpu_ratio"].push_back((secure.run_cpu_s + secure.other_cpu_s) /
+                                   (daemon.run_cpu_s + daemon.other_cpu_s));
+      digests_equal = digests_equal && secure.digest == local.digest;
+      watchers_complete_min = std::min(watchers_complete_min, secure.watchers_complete);
+      std::cout << "repeat " << r + 1 << ": TLS and tokens " << secure.wall_s << " s (all other threads "
+                << secure.other_cpu_s << " s cpu), plaintext " << daemon.wall_s << " s, ratio "
+                << secure.wall_s / daemon.wall_s << std::endl;
+    }
     // As `kessler run --local` runs it: no checkpoints (the daemon takes them for crash recovery).
     const Measured bare = in_process(scenario, threads, false);
     f["local_wall"].push_back(local.wall_s);
@@ -421,6 +464,19 @@ int bench_service(int argc, char** argv) {
       .add("events_per_writer_cpu_s", median(store_cpu_rates))
       .add("digests_equal", static_cast<std::int64_t>(digests_equal))
       .add("repeats", static_cast<std::int64_t>(repeats));
+  if (tls) {
+    const auto& tls_ratios = f["tls_ratio"];
+    line.add("tls_daemon_wall_s", med("tls_wall"))
+        .add("tls_over_plaintext_ratio", median(tls_ratios))
+        .add("tls_over_plaintext_ratio_min", *std::min_element(tls_ratios.begin(), tls_ratios.end()))
+        .add("tls_over_plaintext_ratio_max", *std::max_element(tls_ratios.begin(), tls_ratios.end()))
+        .add("tls_daemon_other_cpu_s", med("tls_other_cpu"))
+        .add("tls_over_plaintext_cpu_ratio", med("tls_cpu_ratio"))
+        .add("tls_over_plaintext_cpu_ratio_min",
+             *std::min_element(f["tls_cpu_ratio"].begin(), f["tls_cpu_ratio"].end()))
+        .add("tls_over_plaintext_cpu_ratio_max",
+             *std::max_element(f["tls_cpu_ratio"].begin(), f["tls_cpu_ratio"].end()));
+  }
   line.print();
   return 0;
 }
