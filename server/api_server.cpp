@@ -107,6 +107,10 @@ class Service final : public v1::KesslerService::Service {
                               v1::EnsembleReport* out) override {
     return guarded(c, [&] { *out = m_.cancel_ensemble(r->ensemble_id()); });
   }
+  grpc::Status GetFigures(grpc::ServerContext* c, const v1::GetFiguresRequest* r,
+                          v1::GetFiguresResponse* out) override {
+    return guarded(c, [&] { *out = m_.figures(*r); });
+  }
 
  private:
   RunManager& m_;

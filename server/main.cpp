@@ -6,9 +6,11 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <string>
 
 #include "server/api_server.hpp"
+#include "server/http/http_server.hpp"
 #include "server/run_manager.hpp"
 
 namespace {
@@ -38,6 +40,10 @@ options:
                         write a run's checkpoints to the database at most every N ms; a newer one
                         replaces one still waiting (default 1000; 0: every checkpoint as it comes)
   --port-file PATH      write the port listened on to PATH once serving (for scripts and tests)
+  --http HOST:PORT      also serve the web dashboard (runs, live progress, conjunctions, figures) on
+                        HOST:PORT (off by default; port 0 picks a free one); no authentication yet,
+                        so keep it on loopback
+  --http-port-file PATH write the dashboard's port to PATH once serving
   --help                this text
 )";
 
@@ -54,6 +60,13 @@ bool parse_int(const std::string& text, long min, long max, long& out) {
   return true;
 }
 
+// Written whole (a rename) so a reader never sees a partial number.
+void write_port_file(const std::string& path, int port) {
+  std::string tmp = path + ".tmp";
+  std::ofstream(tmp) << port << "\n";
+  std::filesystem::rename(tmp, path);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -61,6 +74,8 @@ int main(int argc, char** argv) {
   ManagerOptions options;
   std::string listen = "127.0.0.1:50051";
   std::string port_file;
+  std::string http_address;
+  std::string http_port_file;
   long max_message_mb = 64;
   for (int i = 1; i < argc; ++i) {
     std::string arg = argv[i];
@@ -101,6 +116,10 @@ int main(int argc, char** argv) {
       options.min_checkpoint_interval = std::chrono::milliseconds(n);
     } else if (arg == "--port-file") {
       port_file = value;
+    } else if (arg == "--http") {
+      http_address = value;
+    } else if (arg == "--http-port-file") {
+      http_port_file = value;
     } else {
       return usage_error("unknown option " + arg);
     }
@@ -122,15 +141,19 @@ int main(int argc, char** argv) {
     std::string host = listen.substr(0, listen.rfind(':'));
     std::cout << "kesslerd: serving on " << host << ":" << api.port() << ", database " << options.db_path
               << std::endl;
-    if (!port_file.empty()) {
-      std::string tmp = port_file + ".tmp";
-      std::ofstream(tmp) << api.port() << "\n";
-      std::filesystem::rename(tmp, port_file);
+    std::unique_ptr<HttpServer> http;
+    if (!http_address.empty()) {
+      http = std::make_unique<HttpServer>(manager, http_address);
+      std::cout << "kesslerd: dashboard on http://" << http_address.substr(0, http_address.rfind(':')) << ":"
+                << http->port() << "/" << std::endl;
+      if (!http_port_file.empty()) write_port_file(http_port_file, http->port());
     }
+    if (!port_file.empty()) write_port_file(port_file, api.port());
     int received = 0;
     sigwait(&signals, &received);
     std::cout << "kesslerd: " << (received == SIGTERM ? "SIGTERM" : "SIGINT")
               << ": checkpointing running runs and stopping" << std::endl;
+    if (http) http->shutdown();
     manager.shutdown();
     api.shutdown(2.0);
     api.wait();
