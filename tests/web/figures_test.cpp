@@ -3,7 +3,9 @@
 // 3.75 and 7.5, one object falling through the burn-up altitude.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <map>
+#include <thread>
 
 #include "server/figures/figures.hpp"
 #include "tests/web/web_harness.hpp"
@@ -128,6 +130,51 @@ TEST(Figures, ComparedRunsAreDrawnSideBySide) {
   EXPECT_TRUE(spec["encoding"].contains("xOffset"));
   EXPECT_EQ(json::parse(once.figures(2).vega_lite_json())["data"]["values"].size(), 6u);
   m.remove(second);
+}
+
+}  // namespace
+}  // namespace kessler
+
+namespace kessler {
+namespace {
+
+// An ensemble of the crossings run (three seeds; the orbits do not depend on the seed): its figures
+// are the members' means, with the 5-95 % band of objects on orbit and of each phase's time.
+TEST(Figures, AnEnsembleGetsMeansWithBands) {
+  auto& m = *test::shared_run().manager;
+  v1::SubmitEnsembleRequest submit;
+  submit.set_scenario_text(test::crossings_scenario());
+  submit.set_members(3);
+  const std::int64_t id = m.submit_ensemble(submit).id();
+  v1::GetEnsembleRequest get;
+  get.set_ensemble_id(id);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (!server::is_terminal(m.get_ensemble(get).state()) && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  auto figures = server::figures::figures_for_ensemble(m, id);
+  ASSERT_EQ(figures.size(), 4u);
+  for (const auto& f : figures) EXPECT_FALSE(f.partial) << f.id;
+  // The kappa curves' means end at the single run's counts (every member has the same passes).
+  std::map<std::string, double> last;
+  for (const json& row : spec_of(figures, "conjunctions-over-time")["data"]["values"])
+    last[row["kappa"].get<std::string>()] = row["n"].get<double>();
+  EXPECT_EQ(last.at("kappa <= 1"), 1.0);
+  EXPECT_EQ(last.at("kappa <= 10"), 4.0);
+  const json& objects = spec_of(figures, "objects-by-type")["layer"];
+  EXPECT_EQ(objects[0]["mark"]["type"], "area");  // the band
+  EXPECT_EQ(objects[0]["data"]["values"].back()["p05"], 10.0);
+  EXPECT_EQ(objects[0]["data"]["values"].back()["p95"], 10.0);
+  const json& runtime = spec_of(figures, "runtime-breakdown")["layer"];
+  EXPECT_EQ(runtime[1]["mark"], "rule");
+  EXPECT_EQ(runtime[0]["data"].is_null(), true);  // the bars read the spec's data
+  for (const json& row : spec_of(figures, "runtime-breakdown")["data"]["values"]) {
+    EXPECT_LE(row["p05"].get<double>(), row["s"].get<double>());
+    EXPECT_GE(row["p95"].get<double>(), row["s"].get<double>());
+  }
+  v1::GetFiguresRequest bad;
+  bad.set_ensemble_id(id);
+  bad.add_compare_run_ids(1);
+  EXPECT_THROW(m.figures(bad), server::ServiceError);
 }
 
 }  // namespace
