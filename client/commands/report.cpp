@@ -46,8 +46,10 @@ int call_failed(const CallResult& r) {
 }
 
 int report(const ReportOptions& o, const GlobalOptions& global) {
-  if ((o.run_id > 0) == (o.ensemble_id > 0)) return usage_error("report", "give a RUN or --ensemble ID (one of them)");
-  if (o.ensemble_id > 0 && !o.compare.empty()) return usage_error("report", "--compare compares runs, not ensembles");
+  if ((o.run_id > 0) == (o.ensemble_id > 0))
+    return usage_error("report", "give a RUN or --ensemble ID (one of them)");
+  if (o.ensemble_id > 0 && !o.compare.empty())
+    return usage_error("report", "--compare compares runs, not ensembles");
   if (std::string why = unwritable(o.out_path); !why.empty())
     return usage_error("report", "cannot write " + o.out_path + ": " + why);
   RemoteClient client(server_address(global.server));
@@ -74,7 +76,8 @@ int report(const ReportOptions& o, const GlobalOptions& global) {
     }
     request.mutable_compare_run_ids()->erase(request.mutable_compare_run_ids()->begin());
     const v1::Run& first = content.runs.front();
-    content.title = "run " + std::to_string(first.id()) + (first.name().empty() ? "" : " (" + first.name() + ")");
+    content.title =
+        "run " + std::to_string(first.id()) + (first.name().empty() ? "" : " (" + first.name() + ")");
   }
   v1::GetFiguresResponse figures;
   if (CallResult r = client.figures(request, figures); !r.ok) return call_failed(r);
@@ -115,7 +118,8 @@ CommandRun setup_report(CLI::App& command, GlobalOptions& global) {
   add_global_options(command, global, "(not used: the report is HTML)");
   command.footer(
       "Writes one HTML file that opens offline: the figures that apply (conjunctions over time by kappa and "
-      "against kappa, runtime by phase, objects on orbit by type, ...), the scenario, the fingerprint and the "
+      "against kappa, runtime by phase, objects on orbit by type, ...), the scenario, the fingerprint and "
+      "the "
       "ingest report. A run still running gives what exists so far, marked partial.\n\n"
       "examples:\n  kessler report 1 -o run1.html\n  kessler report 1 --compare 2 3 -o runs.html\n"
       "  kessler report --ensemble 1 -o ensemble1.html");

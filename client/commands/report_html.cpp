@@ -20,8 +20,9 @@ std::string row(const std::string& key, const std::string& value) {
 
 std::string run_section(const v1::Run& run) {
   std::ostringstream out;
-  out << "<h2 id=\"run-" << run.id() << "\">Run " << run.id() << (run.name().empty() ? "" : " (" + html_escape(run.name()) + ")")
-      << "</h2><table>" << row("state", v1::run_state_name(run.state()));
+  out << "<h2 id=\"run-" << run.id() << "\">Run " << run.id()
+      << (run.name().empty() ? "" : " (" + html_escape(run.name()) + ")") << "</h2><table>"
+      << row("state", v1::run_state_name(run.state()));
   if (!run.error().empty()) out << row("error", run.error());
   if (run.has_progress())
     out << row("progress", "step " + std::to_string(run.progress().step()) + " of " +
@@ -29,8 +30,9 @@ std::string run_section(const v1::Run& run) {
   if (run.has_summary()) {
     const v1::RunSummary& s = run.summary();
     out << row("events digest", s.events_digest()) << row("state digest", s.state_digest())
-        << row("conjunctions", std::to_string(s.conjunctions())) << row("collisions", std::to_string(s.collisions()))
-        << row("evasions", std::to_string(s.evasions())) << row("burn-ups", std::to_string(s.burn_ups()))
+        << row("conjunctions", std::to_string(s.conjunctions()))
+        << row("collisions", std::to_string(s.collisions())) << row("evasions", std::to_string(s.evasions()))
+        << row("burn-ups", std::to_string(s.burn_ups()))
         << row("objects", std::to_string(s.objects_initial()) + " at the start, " +
                               std::to_string(s.objects_final()) + " at the end");
   } else {
@@ -49,7 +51,8 @@ std::string run_section(const v1::Run& run) {
     auto* catalog = scenario.mutable_population()->mutable_catalog();
     catalog->set_text("<" + std::to_string(catalog->text().size()) + " bytes inline>");
   }
-  out << "<h3>Scenario</h3><pre>" << html_escape(nlohmann::json::parse(to_json(scenario)).dump(2)) << "</pre>";
+  out << "<h3>Scenario</h3><pre>" << html_escape(nlohmann::json::parse(to_json(scenario)).dump(2))
+      << "</pre>";
   return out.str();
 }
 
@@ -59,10 +62,12 @@ std::string ensemble_section(const v1::EnsembleReport& e) {
       << row("members", std::to_string(e.members()) + " (" + std::to_string(e.finished()) + " ended, " +
                             std::to_string(e.aggregated()) + " aggregated)")
       << row("base seed", std::to_string(e.base_seed())) << "</table>";
-  out << "<h3>Members</h3><table><tr><th>index</th><th>run</th><th>seed</th><th>state</th><th>events digest</th></tr>";
+  out << "<h3>Members</h3><table><tr><th>index</th><th>run</th><th>seed</th><th>state</th><th>events "
+         "digest</th></tr>";
   for (const auto& m : e.member())
-    out << "<tr><td>" << m.member_index() << "</td><td>" << m.run_id() << "</td><td>" << m.seed() << "</td><td>"
-        << v1::run_state_name(m.state()) << "</td><td>" << html_escape(m.events_digest()) << "</td></tr>";
+    out << "<tr><td>" << m.member_index() << "</td><td>" << m.run_id() << "</td><td>" << m.seed()
+        << "</td><td>" << v1::run_state_name(m.state()) << "</td><td>" << html_escape(m.events_digest())
+        << "</td></tr>";
   out << "</table><h3>Scenario</h3><pre>" << html_escape(nlohmann::json::parse(to_json(e.scenario())).dump(2))
       << "</pre>";
   return out.str();
@@ -82,12 +87,13 @@ std::string figures_json(const std::vector<v1::Figure>& figures) {
 
 std::string report_html(const ReportContent& content) {
   std::ostringstream out;
-  out << "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" << html_escape(content.title)
-      << "</title><style>" << web::page_style() << "</style>\n<script>" << web::charting_scripts() << "</script>\n<script>"
-      << web::render_script() << "</script></head><body>\n<h1>Kessler report: " << html_escape(content.title)
-      << "</h1>\n";
+  out << "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>"
+      << html_escape(content.title) << "</title><style>" << web::page_style() << "</style>\n<script>"
+      << web::charting_scripts() << "</script>\n<script>" << web::render_script()
+      << "</script></head><body>\n<h1>Kessler report: " << html_escape(content.title) << "</h1>\n";
   if (content.partial)
-    out << "<p class=\"partial\" id=\"partial\">Partial: drawn from a run that has not ended; the figures show "
+    out << "<p class=\"partial\" id=\"partial\">Partial: drawn from a run that has not ended; the figures "
+           "show "
            "what existed when the report was made.</p>\n";
   out << "<h2>Figures</h2><div id=\"figures\"></div>\n";
   if (content.ensemble) out << ensemble_section(*content.ensemble);

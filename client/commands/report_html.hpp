@@ -11,9 +11,9 @@
 namespace kessler::cli {
 
 struct ReportContent {
-  std::string title;                  // "run 7 (paper-1day)"
-  bool partial = false;               // some run (or member) has not ended
-  std::vector<v1::Run> runs;          // the run and those compared (with scenarios), or the members
+  std::string title;          // "run 7 (paper-1day)"
+  bool partial = false;       // some run (or member) has not ended
+  std::vector<v1::Run> runs;  // the run and those compared (with scenarios), or the members
   std::optional<v1::EnsembleReport> ensemble;
   std::vector<v1::Figure> figures;
 };

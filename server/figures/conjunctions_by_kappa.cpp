@@ -83,8 +83,11 @@ json conjunctions_over_time(const FigureSubject& subject) {
   spec["encoding"] = {
       {"x", {{"field", "t"}, {"type", "quantitative"}, {"title", axis.title}}},
       {"y", {{"field", "n"}, {"type", "quantitative"}, {"title", "conjunctions (cumulative)"}}},
-      {"color", {{"field", "kappa"}, {"type", "nominal"}, {"title", "threshold"}, {"sort", kappa_sort(subject)}}},
-      {"tooltip", json::array({{{"field", "run"}}, {{"field", "kappa"}}, {{"field", "t"}, {"title", axis.title}},
+      {"color",
+       {{"field", "kappa"}, {"type", "nominal"}, {"title", "threshold"}, {"sort", kappa_sort(subject)}}},
+      {"tooltip", json::array({{{"field", "run"}},
+                               {{"field", "kappa"}},
+                               {{"field", "t"}, {"title", axis.title}},
                                {{"field", "n"}, {"title", "conjunctions"}}})},
   };
   if (subject.runs.size() > 1) spec["encoding"]["strokeDash"] = {{"field", "run"}, {"type", "nominal"}};
@@ -115,7 +118,8 @@ json conjunctions_vs_kappa(const FigureSubject& subject) {
       {"x", {{"field", "kappa"}, {"type", "quantitative"}, {"title", "kappa (miss distance / (r1 + r2))"}}},
       {"y", {{"field", "n"}, {"type", "quantitative"}, {"title", "conjunctions"}}},
       {"color", {{"field", "run"}, {"type", "nominal"}, {"title", "run"}}},
-      {"tooltip", json::array({{{"field", "run"}}, {{"field", "kappa"}}, {{"field", "n"}, {"title", "conjunctions"}}})},
+      {"tooltip",
+       json::array({{{"field", "run"}}, {{"field", "kappa"}}, {{"field", "n"}, {"title", "conjunctions"}}})},
   };
   return spec;
 }

@@ -23,8 +23,8 @@ struct Figure {
 
 // One run as the figures read it.
 struct RunData {
-  std::string label;  // "run 7"
-  v1::Run run;        // without its scenario
+  std::string label;         // "run 7"
+  v1::Run run;               // without its scenario
   v1::RunStats stats;        // at kappa 1, 2, 5, 10 in the default bins
   v1::RunStats kappa_sweep;  // totals at kSweepKappas
   EventTimes events;

@@ -45,11 +45,13 @@ std::vector<Figure> figures_for(const FigureSubject& subject) {
   return out;
 }
 
-FigureSubject load_run_subject(RunManager& manager, std::int64_t run_id, const std::vector<std::int64_t>& compare) {
+FigureSubject load_run_subject(RunManager& manager, std::int64_t run_id,
+                               const std::vector<std::int64_t>& compare) {
   using Code = ServiceError::Code;
   if (compare.size() > kMaxCompared)
     throw ServiceError(Code::kInvalidArgument,
-                       "compare_run_ids: at most " + std::to_string(kMaxCompared) + " runs", "compare_run_ids");
+                       "compare_run_ids: at most " + std::to_string(kMaxCompared) + " runs",
+                       "compare_run_ids");
   FigureSubject subject;
   std::set<std::int64_t> seen;
   seen.insert(run_id);
@@ -79,7 +81,8 @@ FigureSubject load_ensemble_subject(RunManager& manager, std::int64_t ensemble_i
   return subject;
 }
 
-std::vector<Figure> figures_for_run(RunManager& manager, std::int64_t run_id, const std::vector<std::int64_t>& compare) {
+std::vector<Figure> figures_for_run(RunManager& manager, std::int64_t run_id,
+                                    const std::vector<std::int64_t>& compare) {
   return figures_for(load_run_subject(manager, run_id, compare));
 }
 
@@ -99,8 +102,8 @@ v1::GetFiguresResponse RunManager::figures(const v1::GetFiguresRequest& request)
                          "compare_run_ids: compares runs, not ensembles", "compare_run_ids");
     list = figures::figures_for_ensemble(*this, request.ensemble_id());
   } else if (request.has_run_id()) {
-    list = figures::figures_for_run(
-        *this, request.run_id(), {request.compare_run_ids().begin(), request.compare_run_ids().end()});
+    list = figures::figures_for_run(*this, request.run_id(),
+                                    {request.compare_run_ids().begin(), request.compare_run_ids().end()});
   } else {
     throw ServiceError(ServiceError::Code::kInvalidArgument, "run_id: a run_id or an ensemble_id is required",
                        "run_id");

@@ -31,7 +31,8 @@ std::vector<Figure> figures_for(const FigureSubject& subject);
 // Loads through the manager (NOT_FOUND and INVALID_ARGUMENT as ServiceError). compare: other runs'
 // ids drawn beside run_id, at most kMaxCompared.
 inline constexpr std::size_t kMaxCompared = 16;
-FigureSubject load_run_subject(RunManager& manager, std::int64_t run_id, const std::vector<std::int64_t>& compare);
+FigureSubject load_run_subject(RunManager& manager, std::int64_t run_id,
+                               const std::vector<std::int64_t>& compare);
 FigureSubject load_ensemble_subject(RunManager& manager, std::int64_t ensemble_id);
 
 std::vector<Figure> figures_for_run(RunManager& manager, std::int64_t run_id,

@@ -12,7 +12,8 @@ namespace {
 
 using nlohmann::json;
 
-const char* const kTypeOrder[] = {"all objects", "payload", "rocket body", "debris", "unknown", "breakup fragments"};
+const char* const kTypeOrder[] = {"all objects", "payload", "rocket body",
+                                  "debris",      "unknown", "breakup fragments"};
 
 void add_type_rows(json& rows, const std::string& run, double t, double all, const v1::ObjectCounts& c,
                    bool with_unknown) {
@@ -55,13 +56,16 @@ json type_sort() {
 }
 
 json lines_layer(const TimeAxis& axis, bool by_run) {
-  json layer = {{"mark", "line"},
-                {"encoding",
-                 {{"x", {{"field", "t"}, {"type", "quantitative"}, {"title", axis.title}}},
-                  {"y", {{"field", "n"}, {"type", "quantitative"}, {"title", "objects on orbit"}}},
-                  {"color", {{"field", "type"}, {"type", "nominal"}, {"sort", type_sort()}, {"title", "type"}}},
-                  {"tooltip", json::array({{{"field", "run"}}, {{"field", "type"}},
-                                           {{"field", "t"}, {"title", axis.title}}, {{"field", "n"}, {"title", "objects"}}})}}}};
+  json layer = {
+      {"mark", "line"},
+      {"encoding",
+       {{"x", {{"field", "t"}, {"type", "quantitative"}, {"title", axis.title}}},
+        {"y", {{"field", "n"}, {"type", "quantitative"}, {"title", "objects on orbit"}}},
+        {"color", {{"field", "type"}, {"type", "nominal"}, {"sort", type_sort()}, {"title", "type"}}},
+        {"tooltip", json::array({{{"field", "run"}},
+                                 {{"field", "type"}},
+                                 {{"field", "t"}, {"title", axis.title}},
+                                 {{"field", "n"}, {"title", "objects"}}})}}}};
   if (by_run) layer["encoding"]["strokeDash"] = {{"field", "run"}, {"type", "nominal"}};
   return layer;
 }
@@ -110,12 +114,13 @@ json objects_by_type(const FigureSubject& subject) {
     bool unknown = false;
     for (const auto& a : r.stats.objects_alive()) unknown = unknown || a.by_type().unknown() > 0;
     for (const auto& a : r.stats.objects_alive())
-      add_type_rows(rows, r.label, a.sim_time_s() / axis.seconds_per_unit, static_cast<double>(a.objects_alive()),
-                    a.by_type(), unknown);
+      add_type_rows(rows, r.label, a.sim_time_s() / axis.seconds_per_unit,
+                    static_cast<double>(a.objects_alive()), a.by_type(), unknown);
     add_event_marks(marks, r, axis);
   }
   if (rows.empty()) return nullptr;
-  json spec = base_spec("Objects on orbit by type", "markers: launches, re-entries and breakups per time bin");
+  json spec =
+      base_spec("Objects on orbit by type", "markers: launches, re-entries and breakups per time bin");
   json lines = lines_layer(axis, subject.runs.size() > 1);
   lines["data"] = {{"values", rows}};
   json layers = json::array({lines});

@@ -52,8 +52,8 @@ json ensemble_spec(const FigureSubject& subject) {
                     {"p05", percentile(values, 0.05)},
                     {"p95", percentile(values, 0.95)}});
   }
-  json spec = base_spec("Runtime by phase", "mean over " + std::to_string(timers.size()) +
-                                                " members that ended, bars: 5-95 %");
+  json spec = base_spec("Runtime by phase",
+                        "mean over " + std::to_string(timers.size()) + " members that ended, bars: 5-95 %");
   spec["data"] = {{"values", rows}};
   json x = {{"field", "phase"}, {"type", "nominal"}, {"sort", phase_order()}, {"title", "phase"}};
   spec["layer"] = json::array(
@@ -63,7 +63,8 @@ json ensemble_spec(const FigureSubject& subject) {
           {"y", {{"field", "s"}, {"type", "quantitative"}, {"title", "wall time [s]"}}},
           {"tooltip", json::array({{{"field", "phase"}}, {{"field", "s"}, {"title", "mean [s]"}}})}}}},
        {{"mark", "rule"},
-        {"encoding", {{"x", x}, {"y", {{"field", "p05"}, {"type", "quantitative"}}}, {"y2", {{"field", "p95"}}}}}}});
+        {"encoding",
+         {{"x", x}, {"y", {{"field", "p05"}, {"type", "quantitative"}}}, {"y2", {{"field", "p95"}}}}}}});
   return spec;
 }
 
@@ -84,8 +85,10 @@ json runtime_breakdown(const FigureSubject& subject) {
   spec["encoding"] = {
       {"x", {{"field", "phase"}, {"type", "nominal"}, {"sort", phase_order()}, {"title", "phase"}}},
       {"y", {{"field", "s"}, {"type", "quantitative"}, {"title", "wall time [s]"}}},
-      {"color", {{"field", subject.runs.size() > 1 ? "run" : "phase"}, {"type", "nominal"}, {"legend", nullptr}}},
-      {"tooltip", json::array({{{"field", "run"}}, {{"field", "phase"}}, {{"field", "s"}, {"title", "seconds"}}})},
+      {"color",
+       {{"field", subject.runs.size() > 1 ? "run" : "phase"}, {"type", "nominal"}, {"legend", nullptr}}},
+      {"tooltip",
+       json::array({{{"field", "run"}}, {{"field", "phase"}}, {{"field", "s"}, {"title", "seconds"}}})},
   };
   if (subject.runs.size() > 1) {
     spec["encoding"]["xOffset"] = {{"field", "run"}, {"type", "nominal"}};

@@ -19,8 +19,8 @@ double run_length_s(const v1::RunStats& stats) {
 }
 
 double run_reached_s(const RunData& data) {
-  if (is_terminal(data.run.state())) return data.run.has_summary() ? data.run.summary().sim_time_s()
-                                                                   : run_length_s(data.stats);
+  if (is_terminal(data.run.state()))
+    return data.run.has_summary() ? data.run.summary().sim_time_s() : run_length_s(data.stats);
   return data.run.has_progress() ? data.run.progress().sim_time_s() : 0.0;
 }
 

@@ -38,7 +38,8 @@ std::vector<v1::RunState> parse_states(const std::string& list) {
         found = true;
       }
     if (!found)
-      throw BadParameter("state", "must be queued, running, succeeded, failed or cancelled, got '" + name + "'");
+      throw BadParameter("state",
+                         "must be queued, running, succeeded, failed or cancelled, got '" + name + "'");
   }
   return states;
 }
@@ -78,7 +79,8 @@ v1::ListConjunctionsRequest conjunctions_request(const Params& p, std::int64_t r
   if (auto v = p.text("order_by")) r.set_order_by(*v);
   r.set_descending(p.flag("descending"));
   const std::int64_t max = csv ? kMaxCsvRows : kMaxPageSize;
-  r.set_page_size(static_cast<int>(p.integer("page_size", 1, max).value_or(csv ? kMaxCsvRows : kDefaultPageSize)));
+  r.set_page_size(
+      static_cast<int>(p.integer("page_size", 1, max).value_or(csv ? kMaxCsvRows : kDefaultPageSize)));
   r.set_page_token(p.text("page_token").value_or(""));
   return r;
 }
@@ -101,9 +103,9 @@ std::string conjunctions_csv(const v1::ListConjunctionsResponse& page) {
   out.precision(17);
   out << "seq,tca_s,id1,name1,id2,name2,miss_distance_m,relative_speed_m_s,kappa,kind\n";
   for (const v1::Encounter& e : page.conjunctions())
-    out << e.seq() << ',' << e.tca_s() << ',' << e.id1() << ',' << csv_field(e.name1()) << ',' << e.id2() << ','
-        << csv_field(e.name2()) << ',' << e.miss_distance_m() << ',' << e.relative_speed_m_s() << ',' << e.kappa()
-        << ',' << kind_name(e.kind()) << '\n';
+    out << e.seq() << ',' << e.tca_s() << ',' << e.id1() << ',' << csv_field(e.name1()) << ',' << e.id2()
+        << ',' << csv_field(e.name2()) << ',' << e.miss_distance_m() << ',' << e.relative_speed_m_s() << ','
+        << e.kappa() << ',' << kind_name(e.kind()) << '\n';
   return out.str();
 }
 
@@ -112,11 +114,13 @@ void list_conjunctions(RunManager& manager, const httplib::Request& req, httplib
                  "include_evasions", "closest_per_pair", "order_by", "descending", "page_size", "page_token",
                  "format"});
   const std::string format = p.text("format").value_or("json");
-  if (format != "json" && format != "csv") throw BadParameter("format", "must be json or csv, got '" + format + "'");
+  if (format != "json" && format != "csv")
+    throw BadParameter("format", "must be json or csv, got '" + format + "'");
   const std::int64_t run_id = path_id(req, "run_id");
   v1::ListConjunctionsResponse page = manager.conjunctions(conjunctions_request(p, run_id, format == "csv"));
   if (format == "csv") {
-    res.set_header("Content-Disposition", "attachment; filename=\"run-" + std::to_string(run_id) + "-conjunctions.csv\"");
+    res.set_header("Content-Disposition",
+                   "attachment; filename=\"run-" + std::to_string(run_id) + "-conjunctions.csv\"");
     res.set_header("X-Total-Count", std::to_string(page.total()));
     if (!page.next_page_token().empty()) res.set_header("X-Next-Page-Token", page.next_page_token());
     res.set_content(conjunctions_csv(page), "text/csv");
@@ -124,11 +128,18 @@ void list_conjunctions(RunManager& manager, const httplib::Request& req, httplib
   }
   json rows = json::array();
   for (const v1::Encounter& e : page.conjunctions())
-    rows.push_back({{"seq", e.seq()}, {"tca_s", e.tca_s()}, {"id1", e.id1()}, {"name1", e.name1()},
-                    {"id2", e.id2()}, {"name2", e.name2()}, {"miss_distance_m", e.miss_distance_m()},
-                    {"relative_speed_m_s", e.relative_speed_m_s()}, {"kappa", e.kappa()},
+    rows.push_back({{"seq", e.seq()},
+                    {"tca_s", e.tca_s()},
+                    {"id1", e.id1()},
+                    {"name1", e.name1()},
+                    {"id2", e.id2()},
+                    {"name2", e.name2()},
+                    {"miss_distance_m", e.miss_distance_m()},
+                    {"relative_speed_m_s", e.relative_speed_m_s()},
+                    {"kappa", e.kappa()},
                     {"kind", kind_name(e.kind())}});
-  send_json(res, {{"conjunctions", rows}, {"next_page_token", page.next_page_token()}, {"total", page.total()}});
+  send_json(res,
+            {{"conjunctions", rows}, {"next_page_token", page.next_page_token()}, {"total", page.total()}});
 }
 
 std::vector<std::int64_t> parse_ids(const std::optional<std::string>& list, const std::string& name) {
@@ -138,7 +149,8 @@ std::vector<std::int64_t> parse_ids(const std::optional<std::string>& list, cons
   for (std::string word; std::getline(in, word, ',');) {
     char* end = nullptr;
     const long long v = std::strtoll(word.c_str(), &end, 10);
-    if (word.empty() || *end != '\0' || v <= 0) throw BadParameter(name, "must list run ids, got '" + word + "'");
+    if (word.empty() || *end != '\0' || v <= 0)
+      throw BadParameter(name, "must list run ids, got '" + word + "'");
     ids.push_back(v);
   }
   if (ids.size() > figures::kMaxCompared)
@@ -184,14 +196,16 @@ void add_api_routes(httplib::Server& server, RunManager& manager) {
   route(R"(/api/runs/(\d+)/conjunctions)", list_conjunctions);
   route(R"(/api/runs/(\d+)/figures)", [](RunManager& m, const httplib::Request& req, httplib::Response& res) {
     Params p(req, {"compare"});
-    send_json(res, figures_json(figures::figures_for_run(m, path_id(req, "run_id"), parse_ids(p.text("compare"), "compare"))));
+    send_json(res, figures_json(figures::figures_for_run(m, path_id(req, "run_id"),
+                                                         parse_ids(p.text("compare"), "compare"))));
   });
   route("/api/ensembles", list_ensembles);
   route(R"(/api/ensembles/(\d+))", get_ensemble);
-  route(R"(/api/ensembles/(\d+)/figures)", [](RunManager& m, const httplib::Request& req, httplib::Response& res) {
-    Params p(req, {});
-    send_json(res, figures_json(figures::figures_for_ensemble(m, path_id(req, "ensemble_id"))));
-  });
+  route(R"(/api/ensembles/(\d+)/figures)",
+        [](RunManager& m, const httplib::Request& req, httplib::Response& res) {
+          Params p(req, {});
+          send_json(res, figures_json(figures::figures_for_ensemble(m, path_id(req, "ensemble_id"))));
+        });
   server.Get("/assets/charts.js", [](const httplib::Request&, httplib::Response& res) {
     static const std::string script = web::charting_scripts() + "\n" + web::render_script();
     res.set_header("Cache-Control", "max-age=3600");

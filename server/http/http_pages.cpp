@@ -11,9 +11,10 @@ namespace kessler::server::http {
 namespace {
 
 std::string page(const std::string& title, const std::string& body, const std::string& script) {
-  return "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + web::html_escape(title) +
-         "</title><style>" + web::page_style() + "</style><script src=\"/assets/charts.js\"></script></head><body>" +
-         body + "<script>" + script + "</script></body></html>\n";
+  return "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" +
+         web::html_escape(title) + "</title><style>" + web::page_style() +
+         "</style><script src=\"/assets/charts.js\"></script></head><body>" + body + "<script>" + script +
+         "</script></body></html>\n";
 }
 
 // Helpers every page script uses.

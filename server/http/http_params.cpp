@@ -25,19 +25,21 @@ std::optional<double> Params::number(const std::string& name) const {
   if (!t) return std::nullopt;
   char* end = nullptr;
   const double v = std::strtod(t->c_str(), &end);
-  if (t->empty() || *end != '\0' || !std::isfinite(v)) throw BadParameter(name, "must be a number, got '" + *t + "'");
+  if (t->empty() || *end != '\0' || !std::isfinite(v))
+    throw BadParameter(name, "must be a number, got '" + *t + "'");
   return v;
 }
 
-std::optional<std::int64_t> Params::integer(const std::string& name, std::int64_t min, std::int64_t max) const {
+std::optional<std::int64_t> Params::integer(const std::string& name, std::int64_t min,
+                                            std::int64_t max) const {
   auto t = text(name);
   if (!t) return std::nullopt;
   char* end = nullptr;
   errno = 0;
   const long long v = std::strtoll(t->c_str(), &end, 10);
   if (t->empty() || *end != '\0' || errno == ERANGE || v < min || v > max)
-    throw BadParameter(name, "must be an integer " + std::to_string(min) + ".." + std::to_string(max) + ", got '" +
-                                 *t + "'");
+    throw BadParameter(name, "must be an integer " + std::to_string(min) + ".." + std::to_string(max) +
+                                 ", got '" + *t + "'");
   return v;
 }
 
@@ -64,7 +66,8 @@ void send_json(httplib::Response& response, const nlohmann::json& body, int stat
   response.set_content(body.dump(), "application/json");
 }
 
-void send_error(httplib::Response& response, int status, const std::string& message, const std::string& parameter) {
+void send_error(httplib::Response& response, int status, const std::string& message,
+                const std::string& parameter) {
   nlohmann::json body = {{"error", message}};
   if (!parameter.empty()) body["parameter"] = parameter;
   send_json(response, body, status);
@@ -77,12 +80,12 @@ void guarded(httplib::Response& response, const std::function<void()>& body) {
     send_error(response, 400, e.what(), e.parameter);
   } catch (const ServiceError& e) {
     using Code = ServiceError::Code;
-    const int status = e.code == Code::kInvalidArgument       ? 400
-                       : e.code == Code::kNotFound            ? 404
-                       : e.code == Code::kFailedPrecondition  ? 409
-                       : e.code == Code::kResourceExhausted   ? 429
-                       : e.code == Code::kUnavailable         ? 503
-                                                              : 500;
+    const int status = e.code == Code::kInvalidArgument      ? 400
+                       : e.code == Code::kNotFound           ? 404
+                       : e.code == Code::kFailedPrecondition ? 409
+                       : e.code == Code::kResourceExhausted  ? 429
+                       : e.code == Code::kUnavailable        ? 503
+                                                             : 500;
     send_error(response, status, e.what(), e.field_path);
   } catch (const std::exception& e) {
     send_error(response, 500, std::string("internal error: ") + e.what());

@@ -52,16 +52,16 @@ HttpServer::HttpServer(RunManager& manager, const std::string& address) : impl_(
   http::add_api_routes(s, manager);
   http::add_page_routes(s);
   // Called for every answer >= 400: those without a body yet are unknown paths or methods.
-  s.set_error_handler(httplib::Server::HandlerWithResponse([](const httplib::Request& request,
-                                                                 httplib::Response& response) {
-    if (response.body.empty()) {
-      if (response.status == 404)
-        http::send_error(response, 404, "no such path: " + request.path);
-      else
-        http::send_error(response, response.status, "request refused");
-    }
-    return httplib::Server::HandlerResponse::Handled;
-  }));
+  s.set_error_handler(
+      httplib::Server::HandlerWithResponse([](const httplib::Request& request, httplib::Response& response) {
+        if (response.body.empty()) {
+          if (response.status == 404)
+            http::send_error(response, 404, "no such path: " + request.path);
+          else
+            http::send_error(response, response.status, "request refused");
+        }
+        return httplib::Server::HandlerResponse::Handled;
+      }));
   s.set_exception_handler([](const httplib::Request&, httplib::Response& response, std::exception_ptr) {
     http::send_error(response, 500, "internal error");
   });

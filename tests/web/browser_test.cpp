@@ -34,7 +34,8 @@ std::string chromium(const TempDir& dir, const std::string& mode, const std::str
   const std::string out = dir.path() + "/chromium.out";
   const std::string cmd = find_chromium() + " --headless --no-sandbox --disable-gpu --no-first-run " +
                           "--user-data-dir=" + dir.path() + "/profile --virtual-time-budget=15000 " +
-                          "--window-size=1200,2600 " + mode + " '" + url + "' > " + out + " 2> " + out + ".err";
+                          "--window-size=1200,2600 " + mode + " '" + url + "' > " + out + " 2> " + out +
+                          ".err";
   std::system(cmd.c_str());
   return test::read_text(out);
 }
@@ -46,7 +47,8 @@ json render_results(const std::string& dom) {
   if (start == std::string::npos) return nullptr;
   const auto end = dom.find("</pre>", start);
   std::string text = dom.substr(start + open.size(), end - start - open.size());
-  for (auto [from, to] : {std::pair<std::string, std::string>{"&quot;", "\""}, {"&lt;", "<"}, {"&gt;", ">"}, {"&amp;", "&"}})
+  for (auto [from, to] :
+       {std::pair<std::string, std::string>{"&quot;", "\""}, {"&lt;", "<"}, {"&gt;", ">"}, {"&amp;", "&"}})
     for (std::size_t p; (p = text.find(from)) != std::string::npos;) text.replace(p, from.size(), to);
   return json::parse(text);
 }
@@ -66,8 +68,9 @@ void expect_marks(const json& results, const json& figures) {
   std::set<std::string> types;
   for (const json& row : spec["objects-by-type"]["layer"][0]["data"]["values"]) types.insert(row["type"]);
   EXPECT_GE(types.size(), 5u);
-  EXPECT_EQ(results["figures"]["objects-by-type"],
-            json({{"line", types.size()}, {"rule", spec["objects-by-type"]["layer"][1]["data"]["values"].size()}}));
+  EXPECT_EQ(
+      results["figures"]["objects-by-type"],
+      json({{"line", types.size()}, {"rule", spec["objects-by-type"]["layer"][1]["data"]["values"].size()}}));
 }
 
 // A PNG's pixels differ: more than 2 % of them from the top-left one. Decodes 8-bit RGB(A) PNGs.
@@ -89,7 +92,8 @@ double share_not_background(const std::string& png) {
   }
   std::vector<unsigned char> raw((stride + 1) * height);
   uLongf size = raw.size();
-  if (uncompress(raw.data(), &size, reinterpret_cast<const Bytef*>(idat.data()), idat.size()) != Z_OK) return -1;
+  if (uncompress(raw.data(), &size, reinterpret_cast<const Bytef*>(idat.data()), idat.size()) != Z_OK)
+    return -1;
   std::vector<unsigned char> image(stride * height), prior(stride, 0);
   for (std::size_t y = 0; y < height; ++y) {
     const unsigned char filter = raw[y * (stride + 1)];
@@ -123,11 +127,14 @@ class Browser : public ::testing::Test {
     shared_ = nullptr;
   }
   struct Shared {
-    Shared() : daemon(dir.path() + "/k.db", {"--http", "127.0.0.1:0", "--http-port-file", dir.path() + "/http.port"}) {
+    Shared()
+        : daemon(dir.path() + "/k.db",
+                 {"--http", "127.0.0.1:0", "--http-port-file", dir.path() + "/http.port"}) {
       daemon.start();
       http_port = std::stoi(test::read_text(dir.path() + "/http.port"));
       test::write_text(dir.path() + "/crossings.yaml", test::crossings_scenario());
-      submitted = cli(dir, "--server " + daemon.address() + " submit " + dir.path() + "/crossings.yaml --watch");
+      submitted =
+          cli(dir, "--server " + daemon.address() + " submit " + dir.path() + "/crossings.yaml --watch");
       report = cli(dir, "--server " + daemon.address() + " report 1 -o " + dir.path() + "/report.html");
       httplib::Client client("127.0.0.1", http_port);
       auto r = client.Get("/api/runs/1/figures");
@@ -141,8 +148,9 @@ class Browser : public ::testing::Test {
   };
   void SetUp() override {
     if (find_chromium().empty())
-      GTEST_SKIP() << "Chromium not found (KESSLER_CHROMIUM, or chromium on the PATH): the browser tests need "
-                      "it; deploy/install-deps.sh installs Debian's chromium";
+      GTEST_SKIP()
+          << "Chromium not found (KESSLER_CHROMIUM, or chromium on the PATH): the browser tests need "
+             "it; deploy/install-deps.sh installs Debian's chromium";
     ASSERT_EQ(shared_->submitted.exit_code, 0) << shared_->submitted.err;
     ASSERT_EQ(shared_->report.exit_code, 0) << shared_->report.err;
   }
@@ -151,7 +159,8 @@ class Browser : public ::testing::Test {
 Browser::Shared* Browser::shared_ = nullptr;
 
 TEST_F(Browser, TheReportFileRendersEveryFigureOffline) {
-  const std::string dom = chromium(shared_->dir, "--dump-dom", "file://" + shared_->dir.path() + "/report.html");
+  const std::string dom =
+      chromium(shared_->dir, "--dump-dom", "file://" + shared_->dir.path() + "/report.html");
   expect_marks(render_results(dom), shared_->figures);
   // The report stands alone: no script or style from elsewhere.
   const std::string html = test::read_text(shared_->dir.path() + "/report.html");
@@ -166,7 +175,8 @@ TEST_F(Browser, TheDashboardsRunPageRendersEveryFigureAndTheConjunctions) {
   const std::string dom = chromium(shared_->dir, "--dump-dom", base + "/runs/1");
   expect_marks(render_results(dom), shared_->figures);
   EXPECT_NE(dom.find("run 1 (web-crossings): succeeded"), std::string::npos);
-  EXPECT_NE(dom.find("4 matching"), std::string::npos);  // the 4 passes at kappa <= 10, the collision one of them
+  EXPECT_NE(dom.find("4 matching"),
+            std::string::npos);  // the 4 passes at kappa <= 10, the collision one of them
   const std::string index = chromium(shared_->dir, "--dump-dom", base + "/");
   EXPECT_NE(index.find("<a href=\"/runs/1\">1</a>"), std::string::npos);
 }

@@ -20,8 +20,8 @@ inline std::string crossings_scenario() {
     // On the circle through u (unit position) moving along w (unit velocity), t seconds before u.
     const double c = std::cos(n * t), s = std::sin(n * t);
     char line[320];
-    std::snprintf(line, sizeof line, "    %d,2022-01-01T00:00:00Z,%.6f,%.6f,%.6f,%.9f,%.9f,%.9f,2.0,100,\n", id,
-                  r * (c * u[0] - s * w[0]), r * (c * u[1] - s * w[1]), r * (c * u[2] - s * w[2]),
+    std::snprintf(line, sizeof line, "    %d,2022-01-01T00:00:00Z,%.6f,%.6f,%.6f,%.9f,%.9f,%.9f,2.0,100,\n",
+                  id, r * (c * u[0] - s * w[0]), r * (c * u[1] - s * w[1]), r * (c * u[2] - s * w[2]),
                   v * (s * u[0] + c * w[0]), v * (s * u[1] + c * w[1]), v * (s * u[2] + c * w[2]));
     table += line;
   };

@@ -37,8 +37,8 @@ TEST(Figures, TheRunGetsEveryFigureThatNeedsNoSnapshots) {
     EXPECT_FALSE(f.partial);
     EXPECT_EQ(f.spec["$schema"], "https://vega.github.io/schema/vega-lite/v5.json");
   }
-  EXPECT_EQ(ids, (std::vector<std::string>{"conjunctions-over-time", "conjunctions-vs-kappa", "runtime-breakdown",
-                                           "objects-by-type"}));
+  EXPECT_EQ(ids, (std::vector<std::string>{"conjunctions-over-time", "conjunctions-vs-kappa",
+                                           "runtime-breakdown", "objects-by-type"}));
 }
 
 TEST(Figures, EachKappaCurveEndsAtTheStoresCountAtThatKappa) {
@@ -68,12 +68,13 @@ TEST(Figures, TheTotalAgainstKappaIsTheStoresCountAtEachKappa) {
 TEST(Figures, TheRuntimeBarsAreTheSummarysPhaseTimers) {
   auto figures = server::figures::figures_for_run(*shared_run().manager, shared_run().run_id);
   const v1::PhaseTimers& t = shared_run().run.summary().timers();
-  const std::map<std::string, double> expected = {{"integrator", t.integrator_s()}, {"burn-up", t.burn_up_s()},
-                                                  {"grid", t.grid_s()},             {"detection", t.detection_s()},
-                                                  {"output", t.output_s()},         {"checkpoint", t.checkpoint_s()}};
+  const std::map<std::string, double> expected = {
+      {"integrator", t.integrator_s()}, {"burn-up", t.burn_up_s()}, {"grid", t.grid_s()},
+      {"detection", t.detection_s()},   {"output", t.output_s()},   {"checkpoint", t.checkpoint_s()}};
   const json& rows = spec_of(figures, "runtime-breakdown")["data"]["values"];
   ASSERT_EQ(rows.size(), 6u);
-  for (const json& row : rows) EXPECT_EQ(row["s"].get<double>(), expected.at(row["phase"].get<std::string>()));
+  for (const json& row : rows)
+    EXPECT_EQ(row["s"].get<double>(), expected.at(row["phase"].get<std::string>()));
 }
 
 TEST(Figures, ObjectsOnOrbitStartAndEndAtTheRunsCountsWithTheReentryMarked) {

@@ -17,7 +17,9 @@ using nlohmann::json;
 
 class Dashboard : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { server_ = new server::HttpServer(*test::shared_run().manager, "127.0.0.1:0"); }
+  static void SetUpTestSuite() {
+    server_ = new server::HttpServer(*test::shared_run().manager, "127.0.0.1:0");
+  }
   static void TearDownTestSuite() {
     delete server_;
     server_ = nullptr;
@@ -26,7 +28,9 @@ class Dashboard : public ::testing::Test {
     httplib::Client client("127.0.0.1", server_->port());
     return client.Get(path.c_str());
   }
-  std::string run_path(const std::string& rest) { return "/api/runs/" + std::to_string(test::shared_run().run_id) + rest; }
+  std::string run_path(const std::string& rest) {
+    return "/api/runs/" + std::to_string(test::shared_run().run_id) + rest;
+  }
   static server::HttpServer* server_;
 };
 server::HttpServer* Dashboard::server_ = nullptr;
@@ -77,7 +81,8 @@ TEST_F(Dashboard, PagesVisitEveryConjunctionOnce) {
   std::string token;
   int pages = 0;
   do {
-    auto r = get(run_path("/conjunctions?include_evasions=true&page_size=2") + (token.empty() ? "" : "&page_token=" + token));
+    auto r = get(run_path("/conjunctions?include_evasions=true&page_size=2") +
+                 (token.empty() ? "" : "&page_token=" + token));
     ASSERT_TRUE(r);
     ASSERT_EQ(r->status, 200) << r->body;
     json page = json::parse(r->body);

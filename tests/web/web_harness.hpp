@@ -36,7 +36,8 @@ struct InProcessRun {
     submit.set_scenario_text(crossings_scenario());
     run_id = manager->submit(submit).id();
     run = wait_for(*manager, run_id, [](const v1::Run& r) { return server::is_terminal(r.state()); });
-    if (run.state() != v1::RUN_STATE_SUCCEEDED) throw std::runtime_error("the crossings run failed: " + run.error());
+    if (run.state() != v1::RUN_STATE_SUCCEEDED)
+      throw std::runtime_error("the crossings run failed: " + run.error());
   }
   TempDir dir;
   std::unique_ptr<server::RunManager> manager;
