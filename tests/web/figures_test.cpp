@@ -152,6 +152,7 @@ TEST(Figures, AnEnsembleGetsMeansWithBands) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
   while (!server::is_terminal(m.get_ensemble(get).state()) && std::chrono::steady_clock::now() < deadline)
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  m.store().flush();  // the members' last events committed
   auto figures = server::figures::figures_for_ensemble(m, id);
   ASSERT_EQ(figures.size(), 4u);
   for (const auto& f : figures) EXPECT_FALSE(f.partial) << f.id;

@@ -21,7 +21,10 @@ v1::Run wait_for(server::RunManager& manager, std::int64_t run_id, Until until) 
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
   while (std::chrono::steady_clock::now() < deadline) {
     v1::Run run = manager.get(run_id);
-    if (until(run)) return run;
+    if (until(run)) {
+      manager.store().flush();  // the run's last events, handed to the writer, committed
+      return run;
+    }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   throw std::runtime_error("run " + std::to_string(run_id) + " did not get there in 120 s");
