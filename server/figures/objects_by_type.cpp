@@ -39,6 +39,7 @@ void add_event_marks(json& marks, const RunData& data, const TimeAxis& axis) {
   };
   auto ones = [](const std::vector<double>& times) {
     std::vector<std::pair<double, std::uint64_t>> out;
+    out.reserve(times.size());
     for (double t : times) out.emplace_back(t, 1);
     return out;
   };

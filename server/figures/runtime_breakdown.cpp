@@ -44,6 +44,7 @@ json ensemble_spec(const FigureSubject& subject) {
   json rows = json::array();
   for (std::size_t p = 0; p < 6; ++p) {
     std::vector<double> values;
+    values.reserve(timers.size());
     for (const auto& t : timers) values.push_back(phases(t)[p].second);
     double mean = 0;
     for (double v : values) mean += v / static_cast<double>(values.size());

@@ -26,7 +26,7 @@ struct BadParameter : std::runtime_error {
 // Query parameters, checked: unknown names and malformed values are BadParameter.
 class Params {
  public:
-  Params(const httplib::Request& request, std::set<std::string> allowed);
+  Params(const httplib::Request& request, const std::set<std::string>& allowed);
   std::optional<std::string> text(const std::string& name) const;
   std::optional<double> number(const std::string& name) const;
   // An integer within [min, max].

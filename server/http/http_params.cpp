@@ -10,7 +10,7 @@
 
 namespace kessler::server::http {
 
-Params::Params(const httplib::Request& request, std::set<std::string> allowed) : request_(request) {
+Params::Params(const httplib::Request& request, const std::set<std::string>& allowed) : request_(request) {
   for (const auto& [name, value] : request.params)
     if (!allowed.count(name)) throw BadParameter(name, "unknown parameter");
 }

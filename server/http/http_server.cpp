@@ -44,7 +44,7 @@ HttpServer::HttpServer(RunManager& manager, const std::string& address) : impl_(
   auto [host, port] = split_address(address);
   httplib::Server& s = impl_->server;
   // Requests carry their parameters in the query; a body is never needed.
-  s.set_payload_max_length(64 * 1024);
+  s.set_payload_max_length(std::size_t{64} * 1024);
   s.set_pre_routing_handler([](const httplib::Request& request, httplib::Response& response) {
     return authorize(request, response) ? httplib::Server::HandlerResponse::Unhandled
                                         : httplib::Server::HandlerResponse::Handled;
@@ -62,9 +62,10 @@ HttpServer::HttpServer(RunManager& manager, const std::string& address) : impl_(
         }
         return httplib::Server::HandlerResponse::Handled;
       }));
-  s.set_exception_handler([](const httplib::Request&, httplib::Response& response, std::exception_ptr) {
-    http::send_error(response, 500, "internal error");
-  });
+  s.set_exception_handler(
+      [](const httplib::Request&, httplib::Response& response, const std::exception_ptr&) {
+        http::send_error(response, 500, "internal error");
+      });
   if (port == 0) {
     impl_->port = s.bind_to_any_port(host);
     if (impl_->port <= 0) throw std::runtime_error("--http: cannot listen on " + address);
