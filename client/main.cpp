@@ -24,6 +24,7 @@ CommandRun setup_cancel(CLI::App& command, GlobalOptions& global);
 CommandRun setup_delete(CLI::App& command, GlobalOptions& global);
 CommandRun setup_health(CLI::App& command, GlobalOptions& global);
 CommandRun setup_ensemble(CLI::App& command, GlobalOptions& global);
+CommandRun setup_report(CLI::App& command, GlobalOptions& global);
 #endif
 
 namespace {
@@ -45,6 +46,8 @@ const CommandSpec kCommands[] = {
     {"delete", "delete an ended run and everything stored for it", setup_delete},
     {"ensemble", "Monte Carlo ensembles (submit --members N): show (aggregates), list, cancel",
      setup_ensemble},
+    {"report", "one self-contained HTML file: a run's (or an ensemble's) figures, scenario, fingerprint",
+     setup_report},
     {"health", "the daemon's health check: exit 0 when SERVING", setup_health},
 #endif
 };

@@ -11,7 +11,34 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-format clang-tidy zlib1g-dev libssl-dev
   libsimdjson-dev libpugixml-dev
+  nlohmann-json3-dev libcpp-httplib-dev
+  chromium chromium-driver
 )
+# The web assets' installer; a node from elsewhere (e.g. NodeSource's, which brings its own npm) will do.
+command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)
+
+# vega, vega-lite and vega-embed from the npm registry, as pinned by web/package-lock.json; the build
+# compiles them into the binaries. Skipped when node_modules already matches the lock file.
+install_web_assets() {
+  local web lock stamp
+  web="$(cd "$(dirname "$0")/.." && pwd)/web"
+  if [ ! -f "$web/package-lock.json" ]; then
+    echo "install-deps: no web/ beside this script; run it from the source tree for the web assets"
+    return 0
+  fi
+  lock=$(sha256sum "$web/package-lock.json" | cut -d' ' -f1)
+  stamp="$web/node_modules/.kessler-lock-sha256"
+  if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$lock" ]; then
+    echo "install-deps: web assets present (web/node_modules)"
+    return 0
+  fi
+  if ! (cd "$web" && npm ci --no-audit --no-fund); then
+    echo "install-deps: 'npm ci' in web/ failed: the charting libraries come from the npm registry" \
+         "(registry.npmjs.org or npm's configured registry); without them the build stops" >&2
+    exit 1
+  fi
+  echo "$lock" >"$stamp"
+}
 
 missing=()
 for p in "${packages[@]}"; do
@@ -19,6 +46,7 @@ for p in "${packages[@]}"; do
 done
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install-deps: all ${#packages[@]} packages present"
+  install_web_assets
   exit 0
 fi
 
@@ -32,3 +60,4 @@ export DEBIAN_FRONTEND=noninteractive
 apt-get update -qq
 apt-get install -y -qq --no-install-recommends "${missing[@]}"
 echo "install-deps: installed ${missing[*]}"
+install_web_assets

@@ -171,7 +171,11 @@ class Service final : public v1::KesslerService::Service {
   }
   grpc::Status GetConjunctionCdm(grpc::ServerContext* c, const v1::GetConjunctionCdmRequest* r,
                                  v1::ConjunctionCdm* out) override {
-    return guarded(c, [&] { *out = m_.conjunction_cdm(*r); });
+    return guard_(c, Role::kRead, [&](const Caller& who) {
+      check_run_owner(who, r->run_id());
+      guard_.limits().take_request(who);
+      *out = m_.conjunction_cdm(*r);
+    });
   }
   grpc::Status GetRunStats(grpc::ServerContext* c, const v1::GetRunStatsRequest* r,
                            v1::RunStats* out) override {
@@ -223,6 +227,18 @@ class Service final : public v1::KesslerService::Service {
     return guard_(c, Role::kSubmit, [&](const Caller& who) {
       check_ensemble_owner(who, r->ensemble_id());
       *out = m_.cancel_ensemble(r->ensemble_id());
+    });
+  }
+  grpc::Status GetFigures(grpc::ServerContext* c, const v1::GetFiguresRequest* r,
+                          v1::GetFiguresResponse* out) override {
+    return guard_(c, Role::kRead, [&](const Caller& who) {
+      if (r->has_ensemble_id())
+        check_ensemble_owner(who, r->ensemble_id());
+      else
+        check_run_owner(who, r->run_id());
+      for (const std::int64_t id : r->compare_run_ids()) check_run_owner(who, id);
+      guard_.limits().take_request(who);
+      *out = m_.figures(*r);
     });
   }
 

@@ -95,6 +95,8 @@ void fill_assessment(v1::Encounter& e) {
 
 v1::ListConjunctionsResponse assessed_conjunctions(Store& store, const v1::ListConjunctionsRequest& request) {
   const SortKey key = sort_key_of(request.sort());
+  if (key != SortKey::kSeq && !request.order_by().empty())
+    throw std::invalid_argument("sort: give sort (by assessment) or order_by (by column), not both");
   if (request.has_pc_min() && !(request.pc_min() >= 0.0 && request.pc_min() <= 1.0))
     throw std::invalid_argument("pc_min: must be in [0, 1]");
   v1::ListConjunctionsResponse response;
@@ -130,7 +132,7 @@ v1::ListConjunctionsResponse assessed_conjunctions(Store& store, const v1::ListC
     if (page.next_token.empty()) break;
     all.set_page_token(page.next_token);
   }
-  sort_rows(rows, key);
+  if (key != SortKey::kSeq) sort_rows(rows, key);  // else the store's order (seq, or order_by)
   const std::size_t page_size =
       static_cast<std::size_t>(request.page_size() <= 0 ? 1000 : std::min(request.page_size(), 100000));
   const std::size_t begin =

@@ -13,6 +13,7 @@
 
 #include "server/api_server.hpp"
 #include "server/auth.hpp"
+#include "server/http/http_server.hpp"
 #include "server/run_manager.hpp"
 #include "server/transport.hpp"
 
@@ -61,6 +62,10 @@ options:
                         write a run's checkpoints to the database at most every N ms; a newer one
                         replaces one still waiting (default 1000; 0: every checkpoint as it comes)
   --port-file PATH      write the port listened on to PATH once serving (for scripts and tests)
+  --http HOST:PORT      also serve the web dashboard (runs, live progress, conjunctions, figures) on
+                        HOST:PORT (off by default; port 0 picks a free one); the dashboard has no
+                        tokens, so HOST must be loopback unless --insecure
+  --http-port-file PATH write the dashboard's port to PATH once serving
   --help                this text
 
 Limits of per-token kind hold read and submit tokens; the admin tokens and the tokenless default (the
@@ -199,10 +204,23 @@ std::string check_exposure(const kessler::server::ListenAddress& address, const 
   return "";
 }
 
+// Written whole (a rename) so a reader never sees a partial number.
+void write_port_file(const std::string& path, int port) {
+  std::string tmp = path + ".tmp";
+  std::ofstream(tmp) << port << "\n";
+  std::filesystem::rename(tmp, path);
+}
+
+struct Ports {
+  std::string port_file;       // the gRPC port, once serving
+  std::string http_address;    // the dashboard's HOST:PORT; empty: off
+  std::string http_port_file;  // the dashboard's port, once serving
+};
+
 // Serves until SIGTERM or SIGINT (SIGHUP rereads the tokens); the exit code.
 int serve(const kessler::server::ManagerOptions& options, kessler::server::ApiOptions api_options,
-          const Security& security, const kessler::server::ListenAddress& address,
-          const std::string& port_file, sigset_t signals) {
+          const Security& security, const kessler::server::ListenAddress& address, const Ports& ports,
+          sigset_t signals) {
   using namespace kessler::server;
   const std::string listen = address.host + ":" + std::to_string(address.port);
   try {
@@ -219,11 +237,14 @@ int serve(const kessler::server::ManagerOptions& options, kessler::server::ApiOp
               << (auth->enabled() ? ", " + std::to_string(auth->size()) + " tokens)" : ", no tokens)")
               << ", database " << options.db_path << std::endl;
     if (!api_options.warning.empty()) std::cerr << "kesslerd: WARNING: " << api_options.warning << std::endl;
-    if (!port_file.empty()) {
-      std::string tmp = port_file + ".tmp";
-      std::ofstream(tmp) << api.port() << "\n";
-      std::filesystem::rename(tmp, port_file);
+    std::unique_ptr<HttpServer> http;
+    if (!ports.http_address.empty()) {
+      http = std::make_unique<HttpServer>(manager, ports.http_address);
+      std::cout << "kesslerd: dashboard on http://" << ports.http_address.substr(0, ports.http_address.rfind(':'))
+                << ":" << http->port() << "/" << std::endl;
+      if (!ports.http_port_file.empty()) write_port_file(ports.http_port_file, http->port());
     }
+    if (!ports.port_file.empty()) write_port_file(ports.port_file, api.port());
     int received = 0;
     while (sigwait(&signals, &received) == 0 && received == SIGHUP) {
       try {
@@ -236,6 +257,7 @@ int serve(const kessler::server::ManagerOptions& options, kessler::server::ApiOp
     }
     std::cout << "kesslerd: " << (received == SIGTERM ? "SIGTERM" : "SIGINT")
               << ": checkpointing running runs and stopping" << std::endl;
+    if (http) http->shutdown();
     manager.shutdown();
     api.shutdown(2.0);
     api.wait();
@@ -256,7 +278,7 @@ int main(int argc, char** argv) {
   ApiOptions api_options;
   Security security;
   std::string listen = "127.0.0.1:50051";
-  std::string port_file;
+  Ports ports;
   long max_message_mb = 64;
   for (int i = 1; i < argc; ++i) {
     std::string arg = argv[i];
@@ -303,7 +325,11 @@ int main(int argc, char** argv) {
         return usage_error("--checkpoint-write-ms needs an integer 0..86400000");
       options.min_checkpoint_interval = std::chrono::milliseconds(n);
     } else if (arg == "--port-file") {
-      port_file = value;
+      ports.port_file = value;
+    } else if (arg == "--http") {
+      ports.http_address = value;
+    } else if (arg == "--http-port-file") {
+      ports.http_port_file = value;
     } else {
       return usage_error("unknown option " + arg);
     }
@@ -315,6 +341,14 @@ int main(int argc, char** argv) {
   if (auto error = check_exposure(*address, security, api_options.warning); !error.empty())
     return usage_error(error);
   api_options.max_message_bytes = static_cast<std::size_t>(max_message_mb) << 20;
+  if (!ports.http_address.empty()) {
+    auto http = parse_listen_address(ports.http_address, address_error);
+    if (!http) return usage_error("--http: " + address_error);
+    if (!is_loopback_host(http->host) && !security.insecure)
+      return usage_error("--http " + ports.http_address +
+                         " is not loopback: the dashboard has no tokens; serve it on loopback (reach it "
+                         "through an SSH tunnel) or pass --insecure");
+  }
 
   // SIGTERM and SIGINT (stop) and SIGHUP (reread the tokens) are taken by sigwait below, not by
   // whichever thread the kernel picks.
@@ -326,5 +360,5 @@ int main(int argc, char** argv) {
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   tune_allocator_for_runs();
-  return serve(options, api_options, security, *address, port_file, signals);
+  return serve(options, api_options, security, *address, ports, signals);
 }

@@ -403,6 +403,10 @@ v1::ListConjunctionsResponse RunManager::conjunctions(const v1::ListConjunctions
     throw ServiceError(Code::kInvalidArgument, "kappa_min: above kappa_max", "kappa_min");
   if (request.has_time_min_s() && request.has_time_max_s() && request.time_min_s() > request.time_max_s())
     throw ServiceError(Code::kInvalidArgument, "time_min_s: after time_max_s", "time_min_s");
+  if (const std::string& o = request.order_by();
+      !o.empty() && o != "seq" && o != "tca_s" && o != "miss_distance_m" && o != "kappa")
+    throw ServiceError(Code::kInvalidArgument,
+                       "order_by: must be seq, tca_s, miss_distance_m or kappa, got '" + o + "'", "order_by");
   try {
     return assessed_conjunctions(store_, request);  // server/conjunction_assessment.cpp
   } catch (const std::invalid_argument& e) {

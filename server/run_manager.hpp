@@ -111,6 +111,9 @@ class RunManager {
                                            const std::string* submitter = nullptr);
   v1::EnsembleReport cancel_ensemble(std::int64_t ensemble_id);
 
+  // The figures of a run (with runs compared beside it) or an ensemble (server/figures/figures.cpp).
+  v1::GetFiguresResponse figures(const v1::GetFiguresRequest& request);
+
   // Streams the run's events after request.after_seq through `write` (false: the client has gone)
   // until the run ends, `stop()` turns true or the daemon shuts down (ServiceError kUnavailable).
   // `more` tells the writer that another event follows at once.

@@ -68,6 +68,14 @@ struct MemberResults {
                                                        // (collisions too, not evasions) at or below it
 };
 
+// When a run's launches, re-entries and breakups happened [s since the scenario epoch], in event order.
+struct EventTimes {
+  std::vector<std::pair<double, std::uint64_t>> launches;  // time, objects launched
+  std::vector<double> burn_ups_s;                          // re-entries below the burn-up altitude
+  std::vector<double> deorbits_s;                          // disposals that left the run
+  std::vector<double> breakups_s;
+};
+
 // One page of a query: items and the token of the next page (empty on the last).
 template <typename T>
 struct Page {
@@ -175,6 +183,8 @@ class Store {
   v1::RunStats run_stats(const v1::GetRunStatsRequest& request, double run_length_s);
   // By fragment id; the page token is the offset (std::invalid_argument for a token not from a page).
   Page<v1::Fragment> list_fragments(const v1::ListFragmentsRequest& request);
+  // The run's launches, re-entries and breakups (store_event_times.cpp).
+  EventTimes event_times(std::int64_t run_id);
 
   // Rows written by the writer thread since the store opened (events), for the benchmark.
   std::uint64_t events_written() const;

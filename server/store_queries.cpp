@@ -91,10 +91,11 @@ Page<v1::Encounter> Store::list_conjunctions(const v1::ListConjunctionsRequest& 
     where += " AND c.encounter_kind != 2";
   // The closest encounter of each pair: SQLite takes the other columns of a MIN() aggregate from the
   // row holding the minimum.
-  std::string selection = r.closest_per_pair()
-                              ? "SELECT c.seq, c.payload, MIN(c.miss_distance_m) FROM events c WHERE " +
-                                    where + " GROUP BY c.id1, c.id2"
-                              : "SELECT c.seq, c.payload FROM events c WHERE " + where;
+  const std::string columns =
+      r.closest_per_pair() ? "c.seq, c.payload, c.tca_s, MIN(c.miss_distance_m) AS miss_distance_m, c.kappa"
+                           : "c.seq, c.payload, c.tca_s, c.miss_distance_m, c.kappa";
+  std::string selection = "SELECT " + columns + " FROM events c WHERE " + where;
+  if (r.closest_per_pair()) selection += " GROUP BY c.id1, c.id2";
   auto bind_all = [&](Statement& s) {
     s.bind(1, r.run_id());
     if (r.has_kappa_min()) s.bind(2, r.kappa_min());
@@ -110,7 +111,13 @@ Page<v1::Encounter> Store::list_conjunctions(const v1::ListConjunctionsRequest& 
     bind_all(count);
     if (count.step()) page.total = static_cast<std::uint64_t>(count.i64(0));
   }
-  Statement s(lease.db(), "SELECT seq, payload FROM (" + selection + ") ORDER BY seq LIMIT ?7 OFFSET ?8");
+  // order_by is one of the columns RunManager::conjunctions checked, never the caller's text.
+  const std::string column = r.order_by().empty() ? "seq" : r.order_by();
+  if (column != "seq" && column != "tca_s" && column != "miss_distance_m" && column != "kappa")
+    throw std::invalid_argument("order_by: not a column of the listing");
+  const std::string direction = r.descending() ? " DESC" : "";
+  Statement s(lease.db(), "SELECT seq, payload FROM (" + selection + ") ORDER BY " + column + direction +
+                              ", seq" + direction + " LIMIT ?7 OFFSET ?8");
   bind_all(s);
   s.bind(7, page_size + 1).bind(8, offset);
   while (s.step()) {

@@ -189,6 +189,10 @@ CallResult RemoteClient::submit_ensemble(const v1::SubmitEnsembleRequest& reques
   return unary(*impl_->stub, &v1::KesslerService::Stub::SubmitEnsemble, request, out);
 }
 
+CallResult RemoteClient::figures(const v1::GetFiguresRequest& request, v1::GetFiguresResponse& out) {
+  return unary(*impl_->stub, &v1::KesslerService::Stub::GetFigures, request, out);
+}
+
 CallResult RemoteClient::get_ensemble(const v1::GetEnsembleRequest& request, v1::EnsembleReport& out) {
   return unary(*impl_->stub, &v1::KesslerService::Stub::GetEnsemble, request, out);
 }

@@ -65,6 +65,7 @@ class RemoteClient {
   CallResult get_ensemble(const v1::GetEnsembleRequest& request, v1::EnsembleReport& out);
   CallResult list_ensembles(const v1::ListEnsemblesRequest& request, v1::ListEnsemblesResponse& out);
   CallResult cancel_ensemble(std::int64_t ensemble_id, v1::EnsembleReport& out);
+  CallResult figures(const v1::GetFiguresRequest& request, v1::GetFiguresResponse& out);
   // The standard health check (grpc.health.v1.Health/Check) of `service` ("" for the whole server):
   // `status` gets SERVING, NOT_SERVING, SERVICE_UNKNOWN or UNKNOWN. A service the daemon does not
   // know is NOT_FOUND.
