@@ -115,7 +115,8 @@ class Service final : public v1::KesslerService::Service {
 }  // namespace
 
 struct ApiServer::Impl {
-  explicit Impl(RunManager& manager) : service(manager) {}
+  explicit Impl(RunManager& m) : manager(m), service(m) {}
+  RunManager& manager;
   Service service;
   std::unique_ptr<grpc::Server> server;
   int port = 0;
@@ -135,9 +136,16 @@ ApiServer::ApiServer(RunManager& manager, const std::string& address, std::size_
   // The whole server ("") and the API by name, so probes that name the service get an answer too.
   impl_->server->GetHealthCheckService()->SetServingStatus(v1::KesslerService::service_full_name(), true);
   impl_->server->GetHealthCheckService()->SetServingStatus(true);
+  // The API is NOT_SERVING while the store cannot write (submissions are refused); "" stays SERVING,
+  // as reads go on.
+  grpc::Server* server = impl_->server.get();
+  manager.set_store_health_listener([server](bool writable) {
+    server->GetHealthCheckService()->SetServingStatus(v1::KesslerService::service_full_name(), writable);
+  });
 }
 
 ApiServer::~ApiServer() {
+  impl_->manager.set_store_health_listener(nullptr);
   shutdown(1.0);
 }
 

@@ -24,7 +24,8 @@ start; SIGTERM or SIGINT checkpoints running runs and exits cleanly.
 
 options:
   --listen HOST:PORT    address to serve on (default 127.0.0.1:50051; port 0 picks a free one)
-  --db PATH             SQLite database, created when missing (default var/kessler.db)
+  --db PATH             SQLite database, created when missing, private to the user (default
+                        var/kessler.db)
   --runs-at-once N      runs simulated at the same time; the rest queue in order (default 1)
   --threads N           OpenMP threads per run unless a submission asks otherwise (default 0: all cores)
   --queue-limit N       queued runs accepted before SubmitRun answers RESOURCE_EXHAUSTED (default 1000)
@@ -65,7 +66,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") {
-      std::cout << kUsage;
+      std::cout << kUsage << "\n" << kRunLimitsUsage;
       return 0;
     }
     if (i + 1 >= argc) return usage_error("unknown option or missing value: " + arg);
@@ -101,6 +102,8 @@ int main(int argc, char** argv) {
       options.min_checkpoint_interval = std::chrono::milliseconds(n);
     } else if (arg == "--port-file") {
       port_file = value;
+    } else if (std::string error; parse_run_limit_flag(arg, value, options.limits, error)) {
+      if (!error.empty()) return usage_error(error);
     } else {
       return usage_error("unknown option " + arg);
     }
@@ -115,9 +118,7 @@ int main(int argc, char** argv) {
 
   tune_allocator_for_runs();
   try {
-    auto parent = std::filesystem::path(options.db_path).parent_path();
-    if (!parent.empty()) std::filesystem::create_directories(parent);
-    RunManager manager(options);
+    RunManager manager(options);  // the database's folder and files are created private (0700, 0600)
     ApiServer api(manager, listen, static_cast<std::size_t>(max_message_mb) << 20);
     std::string host = listen.substr(0, listen.rfind(':'));
     std::cout << "kesslerd: serving on " << host << ":" << api.port() << ", database " << options.db_path

@@ -133,6 +133,7 @@ static_assert(kMigrationCount == Store::kSchemaVersion);
 
 Store::Store(const std::string& path, std::chrono::milliseconds min_checkpoint_interval)
     : path_(path), min_checkpoint_interval_(min_checkpoint_interval) {
+  prepare_private_files(path);
   writer_db_ = open_connection(path);
   all_.push_back(writer_db_);
   // Migrations run on the writer's connection before the writer thread starts.
@@ -155,6 +156,7 @@ Store::Store(const std::string& path, std::chrono::milliseconds min_checkpoint_i
       throw;
     }
   }
+  check_at_open();
   writer_ = std::thread([this] {
     pthread_setname_np(pthread_self(), "kessler-store");  // for top -H and profilers
     writer_loop();
@@ -169,6 +171,65 @@ Store::~Store() {
   queue_cv_.notify_all();
   if (writer_.joinable()) writer_.join();
   for (sqlite3* db : all_) sqlite3_close(db);
+}
+
+// Refuses a damaged database, quarantines runs whose stored events disagree with their summaries, and
+// drops the checkpoints of succeeded runs (nothing resumes them). A store that cannot write (a full
+// disk) still opens, for reads.
+void Store::check_at_open() {
+  DatabaseCheck check = check_database(writer_db_);
+  if (!check.structure_error.empty()) {
+    std::string runs;
+    for (const auto& [id, why] : check.corrupt_runs) runs += (runs.empty() ? "" : ", ") + std::to_string(id);
+    throw StoreError("store: " + path_ + " is damaged (" + check.structure_error + ")" +
+                     (runs.empty() ? "" : "; runs whose stored events disagree with their summaries: " + runs) +
+                     "; restore it from a backup, or recover it with sqlite3's .recover into a new file");
+  }
+  quarantined_ = std::move(check.corrupt_runs);
+  try {
+    exec(writer_db_, "DELETE FROM checkpoints WHERE run_id IN (SELECT id FROM runs WHERE state = " +
+                         std::to_string(static_cast<int>(v1::RUN_STATE_SUCCEEDED)) + ")");
+  } catch (const StoreError& e) {
+    health_.record_failure(e.what());
+  }
+}
+
+bool Store::probe_writable() {
+  try {
+    throw_if_failing_for_test();
+    Lease lease(*this);
+    exec(lease.db(), "BEGIN IMMEDIATE");
+    try {
+      // Grows the database by a few pages and frees them: needs the space a small batch of events needs.
+      exec(lease.db(),
+           "INSERT INTO checkpoints(run_id, last_seq, step, bytes) VALUES(-1, 0, 0, zeroblob(65536)); "
+           "DELETE FROM checkpoints WHERE run_id = -1");
+      exec(lease.db(), "COMMIT");
+    } catch (...) {
+      sqlite3_exec(lease.db(), "ROLLBACK", nullptr, nullptr, nullptr);
+      throw;
+    }
+    health_.record_success();
+    return true;
+  } catch (const StoreError& e) {
+    health_.record_failure(e.what());
+    return false;
+  }
+}
+
+void Store::set_write_failure_handler(std::function<void(std::int64_t, const std::string&)> handler) {
+  std::lock_guard lock(handler_mutex_);
+  write_failure_handler_ = std::move(handler);
+}
+
+void Store::fail_writes_for_test(const std::string& error) {
+  std::lock_guard lock(test_fault_mutex_);
+  test_fault_ = error;
+}
+
+void Store::throw_if_failing_for_test() {
+  std::lock_guard lock(test_fault_mutex_);
+  if (!test_fault_.empty()) throw StoreError("store: " + test_fault_);
 }
 
 sqlite3* Store::acquire() {

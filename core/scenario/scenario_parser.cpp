@@ -7,6 +7,8 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <set>
+#include <vector>
 
 #include "core/scenario/run_builder.hpp"
 
@@ -19,6 +21,13 @@ std::string join_path(const std::string& path, const std::string& key) {
   return path.empty() ? key : path + "." + key;
 }
 
+// Bad input is quoted by a short prefix only: an error message must stay small whatever was sent.
+std::string quoted_prefix(const std::string& text) {
+  constexpr std::size_t kMaxQuoted = 40;
+  if (text.size() <= kMaxQuoted) return text;
+  return text.substr(0, kMaxQuoted) + "... (" + std::to_string(text.size()) + " bytes)";
+}
+
 std::string describe(const YAML::Node& node) {
   switch (node.Type()) {
     case YAML::NodeType::Map:
@@ -28,7 +37,7 @@ std::string describe(const YAML::Node& node) {
     case YAML::NodeType::Null:
       return "nothing";
     case YAML::NodeType::Scalar:
-      return (node.Tag() == "!" ? "the string '" : "'") + node.Scalar() + "'";
+      return (node.Tag() == "!" ? "the string '" : "'") + quoted_prefix(node.Scalar()) + "'";
     default:
       return "an undefined value";
   }
@@ -54,6 +63,7 @@ class Mapper {
     if (!node.IsMap()) return FieldError{path, "expected a mapping of keys, got " + describe(node)};
     const pb::Descriptor* desc = msg.GetDescriptor();
     const pb::Reflection* refl = msg.GetReflection();
+    std::set<int> seen;  // field numbers: a key given twice (or in both spellings) is refused
     for (const auto& kv : node) {
       if (!kv.first.IsScalar()) return FieldError{path, "a key must be a plain name"};
       const std::string key = kv.first.Scalar();
@@ -64,8 +74,9 @@ class Mapper {
       if (!field) {
         std::string known;
         for (int i = 0; i < desc->field_count(); ++i) known += (i ? ", " : "") + desc->field(i)->name();
-        return FieldError{key_path, "unknown key (known keys here: " + known + ")"};
+        return FieldError{quoted_prefix(key_path), "unknown key (known keys here: " + known + ")"};
       }
+      if (!seen.insert(field->number()).second) return FieldError{key_path, "is given twice"};
       if (const pb::OneofDescriptor* oneof = field->real_containing_oneof()) {
         if (const pb::FieldDescriptor* other = refl->GetOneofFieldDescriptor(msg, oneof))
           return FieldError{key_path, "conflicts with '" + other->name() + "': give only one of them"};
@@ -213,7 +224,11 @@ std::optional<FieldError> parse_scenario(std::string_view text, v1::Scenario& ou
   out.Clear();
   YAML::Node root;
   try {
-    root = YAML::Load(std::string(text));
+    std::vector<YAML::Node> documents = YAML::LoadAll(std::string(text));
+    if (documents.size() > 1)
+      return FieldError{"", "the text holds " + std::to_string(documents.size()) +
+                                " YAML documents (separated by '---'); a scenario is one"};
+    if (!documents.empty()) root = documents.front();
   } catch (const YAML::ParserException& e) {
     return FieldError{"", "not valid YAML or JSON: line " + std::to_string(e.mark.line + 1) + ", column " +
                               std::to_string(e.mark.column + 1) + ": " + e.msg};
