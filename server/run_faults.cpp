@@ -54,7 +54,8 @@ void RunManager::require_not_quarantined(std::int64_t run_id) {
   auto it = store_.quarantined_runs().find(run_id);
   if (it == store_.quarantined_runs().end()) return;
   throw ServiceError(Code::kFailedPrecondition,
-                     "run " + std::to_string(run_id) + " is quarantined: the startup check found " + it->second +
+                     "run " + std::to_string(run_id) + " is quarantined: the startup check found " +
+                         it->second +
                          "; its stored results are not served (delete it, or restore the database)");
 }
 
@@ -86,10 +87,10 @@ void RunManager::write_unrecorded() {
   }
   for (const auto& [id, u] : pending) {
     try {
-      store_.set_finished(id, u.state, std::chrono::duration<double>(
-                                           std::chrono::system_clock::now().time_since_epoch())
-                                           .count(),
-                          u.error, u.summary ? &*u.summary : nullptr);
+      store_.set_finished(
+          id, u.state,
+          std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(), u.error,
+          u.summary ? &*u.summary : nullptr);
       std::lock_guard lock(faults_mutex_);
       unrecorded_.erase(id);
     } catch (const StoreError& e) {
@@ -133,8 +134,8 @@ void RunManager::health_loop() {
     lock.lock();
     if (writable != reported_writable_) {
       reported_writable_ = writable;
-      std::cerr << "kesslerd: the store " << (writable ? "can write again" : "cannot write: " + store_.health().error())
-                << std::endl;
+      std::cerr << "kesslerd: the store "
+                << (writable ? "can write again" : "cannot write: " + store_.health().error()) << std::endl;
       if (health_listener_) health_listener_(writable);
     }
   }

@@ -62,12 +62,14 @@ std::optional<FieldError> check_run_limits(const v1::Scenario& scenario, const R
   const auto& c = scenario.conjunctions();
   if (c.has_screening_distance_km() && c.screening_distance_km() > limits.max_screening_km)
     return FieldError{"conjunctions.screening_distance_km",
-                      "must be at most " + number(limits.max_screening_km) + " km on this daemon (--max-screening-km), got " +
+                      "must be at most " + number(limits.max_screening_km) +
+                          " km on this daemon (--max-screening-km), got " +
                           number(c.screening_distance_km())};
   return std::nullopt;
 }
 
-const char* const kRunLimitsUsage = R"(per-run limits, checked at submission from the scenario (INVALID_ARGUMENT above them):
+const char* const kRunLimitsUsage =
+    R"(per-run limits, checked at submission from the scenario (INVALID_ARGUMENT above them):
   --max-run-objects N   objects a run simulates (default 2000000)
   --max-run-steps N     steps (duration / dt_s) (default 200000000)
   --max-run-object-steps X
@@ -83,8 +85,8 @@ bool parse_run_limit_flag(const std::string& flag, const std::string& value, Run
                  : flag == "--max-run-hours"      ? &limits.max_wall_hours
                  : flag == "--max-screening-km"   ? &limits.max_screening_km
                                                   : nullptr;
-  std::uint64_t* whole = flag == "--max-run-objects" ? &limits.max_objects
-                         : flag == "--max-run-steps" ? &limits.max_steps
+  std::uint64_t* whole = flag == "--max-run-objects"  ? &limits.max_objects
+                         : flag == "--max-run-steps"  ? &limits.max_steps
                          : flag == "--max-run-events" ? &limits.max_events
                                                       : nullptr;
   if (!real && !whole) return false;

@@ -21,11 +21,11 @@ namespace kessler::server {
 
 struct RunLimits {
   std::uint64_t max_objects = 2'000'000;
-  std::uint64_t max_steps = 200'000'000;        // the paper's 20 years at 10 s: 63 million
-  double max_object_steps = 2e13;               // the paper's 20 years of leo-19647: 1.2e12
-  double max_wall_hours = 720.0;                // estimated on one core
-  double max_screening_km = 100.0;              // screening distance; beyond it every step floods
-  std::uint64_t max_events = 50'000'000;        // events stored per run; a run that emits more fails
+  std::uint64_t max_steps = 200'000'000;  // the paper's 20 years at 10 s: 63 million
+  double max_object_steps = 2e13;         // the paper's 20 years of leo-19647: 1.2e12
+  double max_wall_hours = 720.0;          // estimated on one core
+  double max_screening_km = 100.0;        // screening distance; beyond it every step floods
+  std::uint64_t max_events = 50'000'000;  // events stored per run; a run that emits more fails
 };
 
 // One core's cost of an object-step with conjunction detection (kessler-bench run on leo-19647: 185 ns;

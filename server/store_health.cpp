@@ -70,7 +70,8 @@ std::string run_problem(sqlite3* db, std::int64_t run_id, const std::string& sum
   v1::RunSummary summary;
   if (!summary.ParseFromString(summary_bytes)) return "its summary cannot be read";
   std::uint64_t encounters = 0, collisions = 0, burn_ups = 0, numbered = 0;
-  Statement s(db, "SELECT kind, encounter_kind, COUNT(*) FROM events WHERE run_id = ? GROUP BY kind, encounter_kind");
+  Statement s(
+      db, "SELECT kind, encounter_kind, COUNT(*) FROM events WHERE run_id = ? GROUP BY kind, encounter_kind");
   s.bind(1, run_id);
   while (s.step()) {
     const std::int64_t kind = s.i64(0);

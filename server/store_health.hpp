@@ -36,7 +36,7 @@ class StoreHealth {
 
 // What the startup check found.
 struct DatabaseCheck {
-  std::string structure_error;                     // quick_check's first findings, or a missing table
+  std::string structure_error;                       // quick_check's first findings, or a missing table
   std::map<std::int64_t, std::string> corrupt_runs;  // run id -> why its stored data is not trusted
 };
 

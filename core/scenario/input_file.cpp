@@ -46,7 +46,8 @@ std::size_t first_non_utf8(const std::string& text) {
 
 }  // namespace
 
-std::optional<std::string> read_input_file(const std::string& path, std::string* error, std::uint64_t max_bytes) {
+std::optional<std::string> read_input_file(const std::string& path, std::string* error,
+                                           std::uint64_t max_bytes) {
   auto fail = [&](const std::string& why) {
     if (error) *error = why;
     return std::nullopt;
@@ -56,14 +57,15 @@ std::optional<std::string> read_input_file(const std::string& path, std::string*
   if (fd < 0) return fail(std::string("cannot read: ") + std::strerror(errno));
   struct stat st {};
   if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-    const std::string kind = S_ISDIR(st.st_mode) ? "is a directory" : std::string("is ") + kind_of(st.st_mode) + ", not a file";
+    const std::string kind =
+        S_ISDIR(st.st_mode) ? "is a directory" : std::string("is ") + kind_of(st.st_mode) + ", not a file";
     ::close(fd);
     return fail(kind);
   }
   if (static_cast<std::uint64_t>(st.st_size) > max_bytes) {
     ::close(fd);
-    return fail("is " + std::to_string(st.st_size >> 20) + " MB, above the " + std::to_string(max_bytes >> 20) +
-                " MB an input file may have");
+    return fail("is " + std::to_string(st.st_size >> 20) + " MB, above the " +
+                std::to_string(max_bytes >> 20) + " MB an input file may have");
   }
   std::string text;
   text.resize(static_cast<std::size_t>(st.st_size));

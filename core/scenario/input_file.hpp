@@ -1,6 +1,7 @@
 // Reading a user's input file (a scenario, a catalog) without surprises: only a regular file is read
 // (a FIFO would block, /dev/zero never ends, a directory has no text), at most a cap of bytes, and it
-// must be text (UTF-8 without NUL bytes), so a binary file is refused with a clear reason instead of a parser's.
+// must be text (UTF-8 without NUL bytes), so a binary file is refused with a clear reason instead of a
+// parser's.
 #pragma once
 
 #include <cstdint>

@@ -20,7 +20,7 @@ struct Finding {
   const char* what;
   std::string scenario_text;  // YAML, or empty for `message`
   v1::Scenario message;
-  const char* path;     // the field named
+  const char* path;          // the field named
   const char* message_part;  // a part of the message
 };
 
@@ -42,15 +42,16 @@ std::vector<Finding> findings() {
   };
   text("a year of steps", "dt_s: 1000\nduration_days: 3.4e6\npopulation:\n  synthetic:\n    objects: 100\n",
        "duration_days", "--max-run-steps");
-  text("ten million objects", "dt_s: 10\nduration_days: 1\npopulation:\n  synthetic:\n    objects: 10000000\n",
-       "population", "--max-run-objects");
+  text("ten million objects",
+       "dt_s: 10\nduration_days: 1\npopulation:\n  synthetic:\n    objects: 10000000\n", "population",
+       "--max-run-objects");
   text("a cost of years", "dt_s: 10\nduration_days: 7305\npopulation:\n  synthetic:\n    objects: 1000000\n",
        "duration_days", "--max-run-object-steps");
   text("screening 5000 km", std::string(kBase) + "conjunctions:\n  screening_distance_km: 5000\n",
        "conjunctions.screening_distance_km", "--max-screening-km");
   text("screening 30000 km (failed at run start)",
-       std::string(kBase) + "conjunctions:\n  screening_distance_km: 30000\n", "conjunctions.screening_distance_km",
-       "domain");
+       std::string(kBase) + "conjunctions:\n  screening_distance_km: 30000\n",
+       "conjunctions.screening_distance_km", "domain");
   {
     v1::Scenario s = base_message();
     s.mutable_population()->mutable_synthetic()->set_max_altitude_km(std::numeric_limits<double>::infinity());
@@ -67,8 +68,9 @@ std::vector<Finding> findings() {
     s.mutable_conjunctions()->set_narrow_phase(static_cast<v1::NarrowPhase>(-4));
     message("an unknown nested enum number", s, "conjunctions.narrow_phase", "unknown value -4");
   }
-  text("a duplicate key", "dt_s: 10\ndt_s: 20\nduration_days: 0.01\npopulation:\n  synthetic:\n    objects: 100\n",
-       "dt_s", "is given twice");
+  text("a duplicate key",
+       "dt_s: 10\ndt_s: 20\nduration_days: 0.01\npopulation:\n  synthetic:\n    objects: 100\n", "dt_s",
+       "is given twice");
   text("a key in both spellings", std::string(kBase) + "durationDays: 2\n", "durationDays", "is given twice");
   text("a second YAML document", std::string(kBase) + "---\ndt_s: 20\n", "", "2 YAML documents");
   text("a hyperbolic state",
@@ -119,9 +121,9 @@ TEST_F(HostileInput, EveryFindingIsRefusedAtSubmissionNamingTheField) {
 
 TEST_F(HostileInput, ErrorsQuoteOnlyAShortPrefixOfABadValue) {
   const std::string huge(1 << 20, 'z');
-  for (const std::string& text : {std::string(kBase) + "propagator: " + huge + "\n",
-                                  std::string(kBase) + huge + ": 1\n",
-                                  std::string(kBase) + "dt_s: " + huge + "\n"}) {
+  for (const std::string& text :
+       {std::string(kBase) + "propagator: " + huge + "\n", std::string(kBase) + huge + ": 1\n",
+        std::string(kBase) + "dt_s: " + huge + "\n"}) {
     v1::SubmitRunRequest request;
     request.set_scenario_text(text);
     try {
@@ -167,10 +169,10 @@ TEST(HostileCliInput, OddInputFilesAreRefusedWithExit2AndAClearReason) {
   struct Case {
     std::string file, reason;
   };
-  for (const Case& c : {Case{fifo, "is a FIFO, not a file"}, Case{"/dev/zero", "is a character device, not a file"},
-                        Case{binary, "is not a text file (a NUL byte at offset 6)"},
-                        Case{latin1, "is not a text file (not UTF-8 at offset 9)"},
-                        Case{dir.path(), "is a directory"}}) {
+  for (const Case& c :
+       {Case{fifo, "is a FIFO, not a file"}, Case{"/dev/zero", "is a character device, not a file"},
+        Case{binary, "is not a text file (a NUL byte at offset 6)"},
+        Case{latin1, "is not a text file (not UTF-8 at offset 9)"}, Case{dir.path(), "is a directory"}}) {
     SCOPED_TRACE(c.file);
     const auto start = std::chrono::steady_clock::now();
     test::CliResult r = test::cli(dir, "submit " + c.file + " --server 127.0.0.1:1");
@@ -190,7 +192,8 @@ TEST(HostileCliInput, ANegativeRetryIsRefusedAndZeroThreadsMeansAllCores) {
   EXPECT_EQ(retry.exit_code, 2);
   EXPECT_NE(retry.err.find("--retry-s: must be a number of seconds from 0 to 1e9, got -5"), std::string::npos)
       << retry.err;
-  test::CliResult all_cores = test::cli(dir, "run " + dir.path() + "/s.yaml --local --threads 0 --output json");
+  test::CliResult all_cores =
+      test::cli(dir, "run " + dir.path() + "/s.yaml --local --threads 0 --output json");
   EXPECT_EQ(all_cores.exit_code, 0) << all_cores.err;
   test::CliResult one = test::cli(dir, "run " + dir.path() + "/s.yaml --local --threads 1 --output json");
   auto digest = [](const std::string& line) {

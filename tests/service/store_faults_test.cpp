@@ -58,7 +58,8 @@ struct FailureLog {
 std::int64_t succeeded_run(Store& store, std::uint64_t n) {
   const std::int64_t id = store.create_run(v1::Scenario(), 1, 1.0);
   for (std::uint64_t s = 1; s <= n; ++s)
-    store.append_event(encounter(id, s, 0, s % 5 == 0 ? v1::ENCOUNTER_KIND_COLLISION : v1::ENCOUNTER_KIND_CONJUNCTION));
+    store.append_event(
+        encounter(id, s, 0, s % 5 == 0 ? v1::ENCOUNTER_KIND_COLLISION : v1::ENCOUNTER_KIND_CONJUNCTION));
   store.flush();
   v1::RunSummary summary;
   summary.set_events(n);
@@ -127,7 +128,8 @@ TEST(StoreFaults, AFullDiskFailsTheWritingRunKeepsReadsAndEarlierRunsAndRecovers
   const std::string mount_point = dir.path() + "/small";
   std::filesystem::create_directory(mount_point);
   SmallFilesystem fs(mount_point, 8);
-  if (!fs.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here (not root); the injected failure test covers it";
+  if (!fs.mounted())
+    GTEST_SKIP() << "cannot mount a tmpfs here (not root); the injected failure test covers it";
   const std::string filler = mount_point + "/filler";
   Store store(mount_point + "/k.db");
   FailureLog failures;
@@ -272,8 +274,8 @@ TEST(StoreFaults, BitFlipsNeverServeWrongTotals) {
     }
   }
   EXPECT_GT(refused + quarantined, 0);
-  std::printf("bit flips: %d copies refused, %d runs quarantined, %d runs served intact\n", refused, quarantined,
-              clean);
+  std::printf("bit flips: %d copies refused, %d runs quarantined, %d runs served intact\n", refused,
+              quarantined, clean);
 }
 
 TEST(StoreFaults, TheDatabaseItsWalAndItsFolderArePrivate) {

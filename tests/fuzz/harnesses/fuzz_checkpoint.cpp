@@ -17,7 +17,8 @@ namespace {
 std::string framed(std::uint32_t version, const char* payload, std::size_t size) {
   std::string out = "KESSLCKP";
   for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((version >> (8 * i)) & 0xFF));
-  for (int i = 0; i < 8; ++i) out.push_back(static_cast<char>((static_cast<std::uint64_t>(size) >> (8 * i)) & 0xFF));
+  for (int i = 0; i < 8; ++i)
+    out.push_back(static_cast<char>((static_cast<std::uint64_t>(size) >> (8 * i)) & 0xFF));
   out.append(payload, size);
   kessler::Sha256 sum;
   sum.update(payload, size);
