@@ -4,6 +4,9 @@
 #include "server/store.hpp"
 
 #include <pthread.h>
+#include <sys/statvfs.h>
+
+#include <filesystem>
 
 #include "server/store_internal.hpp"
 
@@ -129,6 +132,14 @@ const char* const kMigrations[] = {
 constexpr int kMigrationCount = sizeof(kMigrations) / sizeof(kMigrations[0]);
 static_assert(kMigrationCount == Store::kSchemaVersion);
 
+// Bytes an unprivileged writer may still use on the filesystem holding `path` (max when unknown).
+std::uint64_t free_bytes_at(const std::string& path) {
+  const std::filesystem::path parent = std::filesystem::absolute(path).parent_path();
+  struct statvfs fs {};
+  if (::statvfs(parent.c_str(), &fs) != 0) return UINT64_MAX;
+  return static_cast<std::uint64_t>(fs.f_bavail) * fs.f_frsize;
+}
+
 }  // namespace
 
 Store::Store(const std::string& path, std::chrono::milliseconds min_checkpoint_interval)
@@ -209,6 +220,10 @@ bool Store::probe_writable() {
       sqlite3_exec(lease.db(), "ROLLBACK", nullptr, nullptr, nullptr);
       throw;
     }
+    const std::uint64_t free_bytes = free_bytes_at(path_);
+    if (free_bytes < min_free_bytes_)
+      throw StoreError("store: " + std::to_string(free_bytes >> 20) + " MB free on the database's filesystem, below the " +
+                       std::to_string(min_free_bytes_ >> 20) + " MB writes resume at");
     health_.record_success();
     return true;
   } catch (const StoreError& e) {

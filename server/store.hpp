@@ -7,6 +7,7 @@
 // use their own connections (WAL lets readers run beside the writer).
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -95,8 +96,12 @@ class Store {
   // Faults (store_health.hpp). Whether writes pass now; a failed write marks the store unwritable
   // until one passes again.
   StoreHealth& health() { return health_; }
-  // A small write (grown and committed), to learn whether the store can write again. True when it can.
+  // A small write (grown and committed) and the free space of the database's filesystem (at least
+  // min_free_bytes), to learn whether the store can write again. True when it can.
   bool probe_writable();
+  // The free space a probe asks for (default 64 MB): after a full disk, a small write may pass in the
+  // space a failed batch left in the WAL while the disk is still full.
+  void set_min_free_bytes(std::uint64_t bytes) { min_free_bytes_ = bytes; }
   // Called by the writer thread, outside its locks, for each run whose events or checkpoint could not
   // be written (their batch rolled back), with the error.
   void set_write_failure_handler(std::function<void(std::int64_t run_id, const std::string& error)> handler);
@@ -192,6 +197,7 @@ class Store {
   std::string path_;
   std::chrono::milliseconds min_checkpoint_interval_;
   StoreHealth health_;
+  std::atomic<std::uint64_t> min_free_bytes_{64ull << 20};
   std::map<std::int64_t, std::string> quarantined_;
   std::mutex handler_mutex_;
   std::function<void(std::int64_t, const std::string&)> write_failure_handler_;

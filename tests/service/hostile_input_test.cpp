@@ -71,7 +71,7 @@ std::vector<Finding> findings() {
   text("a duplicate key",
        "dt_s: 10\ndt_s: 20\nduration_days: 0.01\npopulation:\n  synthetic:\n    objects: 100\n", "dt_s",
        "is given twice");
-  text("a key in both spellings", std::string(kBase) + "durationDays: 2\n", "durationDays", "is given twice");
+  text("a key in both spellings", std::string(kBase) + "dtS: 2\n", "dtS", "is given twice");
   text("a second YAML document", std::string(kBase) + "---\ndt_s: 20\n", "", "2 YAML documents");
   text("a hyperbolic state",
        "population:\n  state_table: \"1,2022-01-01T00:00:00Z,7000000,0,0,0,12000,0,0.5,,\\n\"\n"
