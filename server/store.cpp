@@ -192,9 +192,10 @@ void Store::check_at_open() {
   if (!check.structure_error.empty()) {
     std::string runs;
     for (const auto& [id, why] : check.corrupt_runs) runs += (runs.empty() ? "" : ", ") + std::to_string(id);
-    throw StoreError("store: " + path_ + " is damaged (" + check.structure_error + ")" +
-                     (runs.empty() ? "" : "; runs whose stored events disagree with their summaries: " + runs) +
-                     "; restore it from a backup, or recover it with sqlite3's .recover into a new file");
+    throw StoreError(
+        "store: " + path_ + " is damaged (" + check.structure_error + ")" +
+        (runs.empty() ? "" : "; runs whose stored events disagree with their summaries: " + runs) +
+        "; restore it from a backup, or recover it with sqlite3's .recover into a new file");
   }
   quarantined_ = std::move(check.corrupt_runs);
   try {
@@ -222,7 +223,8 @@ bool Store::probe_writable() {
     }
     const std::uint64_t free_bytes = free_bytes_at(path_);
     if (free_bytes < min_free_bytes_)
-      throw StoreError("store: " + std::to_string(free_bytes >> 20) + " MB free on the database's filesystem, below the " +
+      throw StoreError("store: " + std::to_string(free_bytes >> 20) +
+                       " MB free on the database's filesystem, below the " +
                        std::to_string(min_free_bytes_ >> 20) + " MB writes resume at");
     health_.record_success();
     return true;

@@ -215,8 +215,9 @@ void Store::writer_loop() {
         write_batch(to_write, statements);
         health_.record_success();
       } catch (const StoreError& e) {
-        for (Statement* st : {&statements.event_insert, &statements.checkpoint_upsert, &statements.breakup_insert,
-                              &statements.fragment_insert, &statements.lifecycle_insert})
+        for (Statement* st :
+             {&statements.event_insert, &statements.checkpoint_upsert, &statements.breakup_insert,
+              &statements.fragment_insert, &statements.lifecycle_insert})
           st->reset();
         sqlite3_exec(writer_db_, "ROLLBACK", nullptr, nullptr, nullptr);
         health_.record_failure(e.what());

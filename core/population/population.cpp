@@ -132,7 +132,8 @@ std::optional<std::string> validate_record(const ObjectRecord& r) {
   if (r.position_m.norm() < constants::kEarthEquatorialRadius_m - 30000.0)  // below the polar surface
     return problem("position", "is below the Earth's surface");
   // Bound orbits only: an object at escape speed or above leaves the simulated domain.
-  const double energy_j_kg = 0.5 * r.velocity_m_s.squaredNorm() - constants::kEarthMu_m3_s2 / r.position_m.norm();
+  const double energy_j_kg =
+      0.5 * r.velocity_m_s.squaredNorm() - constants::kEarthMu_m3_s2 / r.position_m.norm();
   if (!(energy_j_kg < 0.0)) return problem("velocity", "is at or above escape speed (not a bound orbit)");
   if (!std::isfinite(r.radius_m) || r.radius_m <= 0.0) return problem("radius_m", "must be positive");
   if (r.radius_m > kMaxObjectRadius_m) return problem("radius_m", "must be at most 1000 m");

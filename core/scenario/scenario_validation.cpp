@@ -45,11 +45,13 @@ std::optional<FieldError> validate_enums(const google::protobuf::Message& msg, c
     for (int i = 0; i < count; ++i) {
       const std::string at = f->is_repeated() ? here + "[" + std::to_string(i) + "]" : here;
       if (f->cpp_type() == pb::FieldDescriptor::CPPTYPE_ENUM) {
-        const int number = f->is_repeated() ? refl->GetRepeatedEnumValue(msg, f, i) : refl->GetEnumValue(msg, f);
+        const int number =
+            f->is_repeated() ? refl->GetRepeatedEnumValue(msg, f, i) : refl->GetEnumValue(msg, f);
         if (!f->enum_type()->FindValueByNumber(number))
           return FieldError{at, "unknown value " + std::to_string(number)};
       } else if (f->cpp_type() == pb::FieldDescriptor::CPPTYPE_MESSAGE) {
-        const pb::Message& sub = f->is_repeated() ? refl->GetRepeatedMessage(msg, f, i) : refl->GetMessage(msg, f);
+        const pb::Message& sub =
+            f->is_repeated() ? refl->GetRepeatedMessage(msg, f, i) : refl->GetMessage(msg, f);
         if (auto e = validate_enums(sub, at)) return e;
       }
     }
@@ -183,9 +185,11 @@ std::optional<FieldError> validate_population(const v1::Scenario& scenario) {
       const double hi = s.has_max_altitude_km() ? s.max_altitude_km() : d::kSyntheticMaxAltitudeKm;
       // The generator's band: from 100 km (lower orbits decay within a day) to 40,000 km.
       if (!(lo >= 100.0 && lo < 40000.0))
-        return FieldError{"population.synthetic.min_altitude_km", "must be in [100, 40000) km, got " + number(lo)};
+        return FieldError{"population.synthetic.min_altitude_km",
+                          "must be in [100, 40000) km, got " + number(lo)};
       if (!(hi <= 40000.0))
-        return FieldError{"population.synthetic.max_altitude_km", "must be at most 40000 km, got " + number(hi)};
+        return FieldError{"population.synthetic.max_altitude_km",
+                          "must be at most 40000 km, got " + number(hi)};
       if (!(hi > lo))
         return FieldError{"population.synthetic.max_altitude_km",
                           "must be above min_altitude_km (" + number(lo) + " km), got " + number(hi) + " km"};
