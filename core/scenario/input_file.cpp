@@ -54,7 +54,7 @@ std::optional<std::string> read_input_file(const std::string& path, std::string*
   };
   // O_NONBLOCK: opening a FIFO with no writer must not wait; the type check refuses it next.
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) return fail(std::string("cannot read: ") + std::strerror(errno));
+  if (fd < 0) return fail(std::string("cannot be read (") + std::strerror(errno) + ")");
   struct stat st {};
   if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
     const std::string kind =

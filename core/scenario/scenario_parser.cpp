@@ -8,8 +8,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <set>
+#include <string_view>
 #include <vector>
 
+#include "core/scenario/enum_names.hpp"
 #include "core/scenario/run_builder.hpp"
 
 namespace kessler {
@@ -43,18 +45,35 @@ std::string describe(const YAML::Node& node) {
   }
 }
 
-// The short name of an enum value: PROPAGATOR_SGP4 -> sgp4, given the type's prefix PROPAGATOR_.
-std::string short_enum_name(const pb::EnumValueDescriptor* value) {
-  std::string prefix;
-  for (char c : value->type()->name()) {
-    if (std::isupper(static_cast<unsigned char>(c)) && !prefix.empty()) prefix += '_';
-    prefix += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+// Whether a document marker ('---', or '...' then more) follows content at the top level. A marker is
+// a line that starts with it at column 0 (content of a block scalar is indented, so it has none).
+// yaml-cpp's LoadAll would tell too, but it loops forever on some malformed texts.
+bool holds_a_second_document(std::string_view text) {
+  bool content = false, ended = false;
+  std::size_t at = 0;
+  while (at < text.size()) {
+    std::size_t end = text.find('\n', at);
+    if (end == std::string_view::npos) end = text.size();
+    const std::string_view line = text.substr(at, end - at);
+    at = end + 1;
+    const bool start_marker =
+        line.rfind("---", 0) == 0 && (line.size() == 3 || std::isspace(static_cast<unsigned char>(line[3])));
+    const bool end_marker =
+        line.rfind("...", 0) == 0 && (line.size() == 3 || std::isspace(static_cast<unsigned char>(line[3])));
+    if (start_marker) {
+      if (content || ended) return true;
+      continue;
+    }
+    if (end_marker) {
+      ended = content;
+      continue;
+    }
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string_view::npos || line[first] == '#') continue;
+    if (ended) return true;
+    content = true;
   }
-  prefix += '_';
-  std::string name = value->name();
-  if (name.rfind(prefix, 0) == 0) name = name.substr(prefix.size());
-  for (auto& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return name;
+  return false;
 }
 
 class Mapper {
@@ -224,11 +243,11 @@ std::optional<FieldError> parse_scenario(std::string_view text, v1::Scenario& ou
   out.Clear();
   YAML::Node root;
   try {
-    std::vector<YAML::Node> documents = YAML::LoadAll(std::string(text));
-    if (documents.size() > 1)
-      return FieldError{"", "the text holds " + std::to_string(documents.size()) +
-                                " YAML documents (separated by '---'); a scenario is one"};
-    if (!documents.empty()) root = documents.front();
+    if (holds_a_second_document(text))
+      return FieldError{"",
+                        "the text holds 2 YAML documents (a '---' or '...' line after the first); a "
+                        "scenario is one"};
+    root = YAML::Load(std::string(text));
   } catch (const YAML::ParserException& e) {
     return FieldError{"", "not valid YAML or JSON: line " + std::to_string(e.mark.line + 1) + ", column " +
                               std::to_string(e.mark.column + 1) + ": " + e.msg};

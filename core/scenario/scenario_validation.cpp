@@ -6,6 +6,7 @@
 #include "core/catalog/leo19647.hpp"
 #include "core/conjunctions/detector.hpp"
 #include "core/scenario/breakup_validation.hpp"
+#include "core/scenario/enum_names.hpp"
 #include "core/scenario/input_file.hpp"
 #include "core/scenario/run_builder.hpp"
 #include "core/scenario/scenario_defaults.hpp"
@@ -48,7 +49,8 @@ std::optional<FieldError> validate_enums(const google::protobuf::Message& msg, c
         const int number =
             f->is_repeated() ? refl->GetRepeatedEnumValue(msg, f, i) : refl->GetEnumValue(msg, f);
         if (!f->enum_type()->FindValueByNumber(number))
-          return FieldError{at, "unknown value " + std::to_string(number)};
+          return FieldError{at, "unknown value " + std::to_string(number) + " (expected one of: " +
+                                    short_enum_choices(f->enum_type()) + ")"};
       } else if (f->cpp_type() == pb::FieldDescriptor::CPPTYPE_MESSAGE) {
         const pb::Message& sub =
             f->is_repeated() ? refl->GetRepeatedMessage(msg, f, i) : refl->GetMessage(msg, f);
