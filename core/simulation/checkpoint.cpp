@@ -93,6 +93,7 @@ class Reader {
   void doubles(std::vector<double>& v, std::size_t n, const char* what) {
     need(8 * n, what);
     v.resize(n);
+    if (n == 0) return;  // an empty vector's data() may be null, which memcpy must not get
     if constexpr (std::endian::native == std::endian::little) {
       std::memcpy(v.data(), p_, 8 * n);
       p_ += 8 * n;
