@@ -270,7 +270,7 @@ CheckpointState decode_checkpoint(const std::string& bytes) {
   for (std::uint64_t i = 0; i < pairs; ++i) for_each_field(s.closest_per_pair.emplace_back(), ReadField{r});
   std::uint64_t n = r.u64("population size");
   if (n > kMaxObjects) throw std::runtime_error("checkpoint: implausible population size");
-  r.need_items(n, 8 * 11, "population");  // an id and ten doubles each, at least
+  r.need_items(n, 88, "population");  // an id and ten doubles (8 bytes each), at least
   Population& p = s.population;
   p.id.resize(n);
   for (auto& id : p.id) id = r.u64("ids");
