@@ -272,7 +272,8 @@ class Service final : public v1::KesslerService::Service {
 }  // namespace
 
 struct ApiServer::Impl {
-  Impl(RunManager& manager, const ApiOptions& options) : service(manager, options) {}
+  Impl(RunManager& m, const ApiOptions& options) : manager(m), service(m, options) {}
+  RunManager& manager;
   Service service;
   std::unique_ptr<grpc::Server> server;
   int port = 0;
@@ -322,9 +323,16 @@ ApiServer::ApiServer(RunManager& manager, const std::string& address, const ApiO
   // The whole server ("") and the API by name, so probes that name the service get an answer too.
   impl_->server->GetHealthCheckService()->SetServingStatus(v1::KesslerService::service_full_name(), true);
   impl_->server->GetHealthCheckService()->SetServingStatus(true);
+  // The API is NOT_SERVING while the store cannot write (submissions are refused); "" stays SERVING,
+  // as reads go on.
+  grpc::Server* server = impl_->server.get();
+  manager.set_store_health_listener([server](bool writable) {
+    server->GetHealthCheckService()->SetServingStatus(v1::KesslerService::service_full_name(), writable);
+  });
 }
 
 ApiServer::~ApiServer() {
+  impl_->manager.set_store_health_listener(nullptr);
   shutdown(1.0);
 }
 

@@ -47,7 +47,8 @@ options:
   --max-requests-per-s R
                         expensive calls (submissions, conjunctions, stats, fragments, ensembles) per
                         second per read or submit token, in bursts of 2 s (default 20; 0: no limit)
-  --db PATH             SQLite database, created when missing (default var/kessler.db)
+  --db PATH             SQLite database, created when missing, private to the user (default
+                        var/kessler.db)
   --runs-at-once N      runs simulated at the same time; the rest queue in order (default 1)
   --threads N           OpenMP threads per run unless a submission asks otherwise (default 0: all cores)
   --queue-limit N       queued runs accepted before SubmitRun answers RESOURCE_EXHAUSTED (default 1000)
@@ -227,9 +228,7 @@ int serve(const kessler::server::ManagerOptions& options, kessler::server::ApiOp
     if (!security.tls.cert.empty()) api_options.tls = load_tls(security.tls);
     auto auth = std::make_shared<Authenticator>(security.tokens_path);
     api_options.auth = auth;
-    auto parent = std::filesystem::path(options.db_path).parent_path();
-    if (!parent.empty()) std::filesystem::create_directories(parent);
-    RunManager manager(options);
+    RunManager manager(options);  // the database's folder and files are created private (0700, 0600)
     ApiServer api(manager, listen, api_options);
     std::cout << "kesslerd: serving on " << address.host << ":" << api.port()
               << (api_options.tls ? " (TLS" : " (plaintext")
@@ -283,7 +282,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") {
-      std::cout << kUsage;
+      std::cout << kUsage << "\n" << kRunLimitsUsage;
       return 0;
     }
     if (arg == "--insecure") {
@@ -330,6 +329,8 @@ int main(int argc, char** argv) {
       ports.http_address = value;
     } else if (arg == "--http-port-file") {
       ports.http_port_file = value;
+    } else if (std::string error; parse_run_limit_flag(arg, value, options.limits, error)) {
+      if (!error.empty()) return usage_error(error);
     } else {
       return usage_error("unknown option " + arg);
     }

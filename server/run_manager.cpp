@@ -3,6 +3,7 @@
 #include <malloc.h>
 
 #include <chrono>
+#include <iostream>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -241,13 +242,18 @@ RunManager::RunManager(const ManagerOptions& options)
   scheduler_ =
       std::make_unique<Scheduler>(options.runs_at_once, options.queue_limit,
                                   [this](std::int64_t id, RunControl& control) { execute(id, control); });
-  // Runs a previous daemon left running go first (they resume from their checkpoints), then the
-  // queue in its order.
-  auto interrupted = store_.runs_in_state(v1::RUN_STATE_RUNNING);
-  auto waiting = store_.runs_in_state(v1::RUN_STATE_QUEUED);
-  for (std::int64_t id : interrupted) store_.set_queued(id);
-  for (std::int64_t id : interrupted) scheduler_->enqueue(id, true);
-  for (std::int64_t id : waiting) scheduler_->enqueue(id, true);
+  for (const auto& [id, why] : store_.quarantined_runs())
+    std::cerr << "kesslerd: run " << id << " quarantined: " << why << std::endl;
+  store_.set_write_failure_handler(
+      [this](std::int64_t id, const std::string& error) { note_store_failure(id, error); });
+  // A full disk does not keep the daemon from serving reads: recovery waits until the store can write.
+  try {
+    recover();
+  } catch (const StoreError& e) {
+    store_.health().record_failure(e.what());
+    recovery_pending_ = true;
+  }
+  start_health_thread();
 }
 
 RunManager::~RunManager() {
@@ -256,8 +262,10 @@ RunManager::~RunManager() {
 
 void RunManager::shutdown() {
   stopping_ = true;
+  stop_health_thread();
   scheduler_->shutdown(true);
   store_.flush();
+  store_.set_write_failure_handler(nullptr);
 }
 
 std::shared_ptr<EventHub> RunManager::hub(std::int64_t run_id) {
@@ -299,6 +307,11 @@ std::optional<v1::IngestReport> RunManager::admit(const v1::Scenario& scenario, 
     if (!build_simulation(scenario, build, &error, &ingest))
       throw ServiceError(Code::kInvalidArgument, error.message(), error.path);
   }
+  std::optional<std::uint64_t> ingested;
+  if (ingest) ingested = ingest_outcome(*ingest).kept;
+  if (auto error = check_run_limits(scenario, estimate_run(scenario, ingested), options_.limits))
+    throw ServiceError(Code::kInvalidArgument, error->message(), error->path);
+  require_writable();
   if (!ingest) return std::nullopt;
   return ingest_proto(*ingest);
 }
@@ -327,8 +340,16 @@ v1::Run RunManager::submit(const v1::SubmitRunRequest& request, const std::strin
     same_request.lock();  // a retry racing its first try finds the first run here
     if (auto existing = store_.run_of_request(submitter, request_id)) return get(*existing, false);
   }
-  std::int64_t id = store_.create_run(scenario, threads, unix_now_s(), submitter, request_id);
-  if (ingest) store_.set_ingest(id, *ingest);
+  std::int64_t id = 0;
+  try {
+    id = store_.create_run(scenario, threads, unix_now_s(), submitter, request_id);
+    if (ingest) store_.set_ingest(id, *ingest);
+  } catch (const StoreError& e) {
+    store_.health().record_failure(e.what());
+    if (id != 0) record_finish_later(id, v1::RUN_STATE_FAILED, e.what(), nullptr);
+    throw ServiceError(Code::kUnavailable, std::string("the store cannot write (") + e.what() +
+                                               "); submissions are refused until it can, reads go on");
+  }
   if (!scheduler_->enqueue(id)) {
     store_.delete_run(id);
     throw ServiceError(Code::kResourceExhausted, "queue full: " + std::to_string(options_.queue_limit) +
@@ -351,6 +372,7 @@ v1::Run RunManager::get(const v1::GetRunRequest& request) {
 v1::Run RunManager::get(std::int64_t run_id, bool with_scenario) {
   auto run = store_.get_run(run_id, with_scenario);
   if (!run) throw ServiceError(Code::kNotFound, "run " + std::to_string(run_id) + " not found");
+  overlay_faults(*run);
   if (run->state() == v1::RUN_STATE_QUEUED) run->set_queue_position(scheduler_->queue_position(run_id));
   return *run;
 }
@@ -397,6 +419,7 @@ void RunManager::remove(std::int64_t run_id) {
 
 v1::ListConjunctionsResponse RunManager::conjunctions(const v1::ListConjunctionsRequest& request) {
   get(request.run_id(), false);  // NOT_FOUND
+  require_not_quarantined(request.run_id());
   if (request.page_size() < 0)
     throw ServiceError(Code::kInvalidArgument, "page_size: must be >= 0", "page_size");
   if (request.has_kappa_min() && request.has_kappa_max() && request.kappa_min() > request.kappa_max())
@@ -417,6 +440,7 @@ v1::ListConjunctionsResponse RunManager::conjunctions(const v1::ListConjunctions
 
 v1::RunStats RunManager::stats(const v1::GetRunStatsRequest& request) {
   v1::Run run = get(request.run_id());
+  require_not_quarantined(request.run_id());
   if (request.time_bin_s() < 0)
     throw ServiceError(Code::kInvalidArgument, "time_bin_s: must be >= 0", "time_bin_s");
   double length = run_length_s(run);
@@ -429,6 +453,7 @@ v1::RunStats RunManager::stats(const v1::GetRunStatsRequest& request) {
 
 v1::ListFragmentsResponse RunManager::fragments(const v1::ListFragmentsRequest& request) {
   get(request.run_id(), false);  // NOT_FOUND
+  require_not_quarantined(request.run_id());
   if (request.page_size() < 0)
     throw ServiceError(Code::kInvalidArgument, "page_size: must be >= 0", "page_size");
   Page<v1::Fragment> page;
@@ -444,11 +469,22 @@ v1::ListFragmentsResponse RunManager::fragments(const v1::ListFragmentsRequest& 
   return response;
 }
 
-void RunManager::finish(std::int64_t run_id, v1::RunState state, const std::string& error,
+void RunManager::finish(std::int64_t run_id, v1::RunState state, const std::string& given_error,
                         const v1::RunSummary* summary) {
   store_.discard_waiting_checkpoint(run_id);  // an ended run resumes from nothing
   store_.flush();                             // every event is durable before the run reads as ended
-  store_.set_finished(run_id, state, unix_now_s(), error, summary);
+  std::string error = given_error;
+  if (auto failure = take_store_failure(run_id)) {  // events lost: the run failed, whatever it reached
+    state = v1::RUN_STATE_FAILED;
+    error = *failure;
+    summary = nullptr;
+  }
+  try {
+    store_.set_finished(run_id, state, unix_now_s(), error, summary);
+  } catch (const StoreError& e) {
+    store_.health().record_failure(e.what());
+    record_finish_later(run_id, state, error, summary);  // written when the store can write again
+  }
   std::shared_ptr<EventHub> h;
   {
     std::lock_guard lock(hubs_mutex_);
@@ -468,6 +504,23 @@ void RunManager::finish(std::int64_t run_id, v1::RunState state, const std::stri
 }
 
 void RunManager::execute(std::int64_t run_id, RunControl& control) {
+  // A queued run waits while the store cannot write (it would only fail), and starts when it can.
+  while (!store_.health().writable() && !stopping_ && !control.cancel && !control.stop_after_checkpoint &&
+         !store_.probe_writable())
+    std::this_thread::sleep_for(options_.store_probe_interval);
+  if (!store_.health().writable()) {
+    if (control.cancel) finish(run_id, v1::RUN_STATE_CANCELLED, "", nullptr);
+    return;  // the daemon stops: the run stays queued in the store
+  }
+  try {
+    execute_run(run_id, control);
+  } catch (const StoreError& e) {  // the store failed a run update: the run fails, the daemon goes on
+    store_.health().record_failure(e.what());
+    finish(run_id, v1::RUN_STATE_FAILED, e.what(), nullptr);
+  }
+}
+
+void RunManager::execute_run(std::int64_t run_id, RunControl& control) {
   auto run = store_.get_run(run_id);
   if (!run || run->state() != v1::RUN_STATE_QUEUED) return;  // cancelled or deleted meanwhile
   store_.flush();
@@ -506,9 +559,10 @@ void RunManager::execute(std::int64_t run_id, RunControl& control) {
   // The simulation thread hands events to the relay and goes on; the relay feeds hub and store.
   auto relay = std::make_unique<EventRelay>(run_id, *h, store_, options_.relay_gather,
                                             options_.min_checkpoint_interval, &control);
+  EventLimitSink limited(*relay, control, options_.limits.max_events);
   RunSummary summary;
   try {
-    summary = simulation->run(*relay, control);
+    summary = simulation->run(limited, control);
   } catch (const std::exception& e) {
     relay->drain();
     relay_cpu_s_.fetch_add(relay->cpu_s());
@@ -517,6 +571,10 @@ void RunManager::execute(std::int64_t run_id, RunControl& control) {
   }
   relay->drain();  // every event in the hub and queued in the store before the run ends
   relay_cpu_s_.fetch_add(relay->cpu_s());
+  if (limited.exceeded()) {
+    finish(run_id, v1::RUN_STATE_FAILED, limited.failure(), nullptr);
+    return;
+  }
   if (control.stop_after_checkpoint && !control.cancel && summary.cancelled) {
     // Daemon shutdown: the run stays "running" in the store and resumes at the next start.
     store_.flush();
@@ -532,6 +590,7 @@ void RunManager::watch(const v1::WatchRunRequest& request, const WriteEvent& wri
                        const std::function<bool()>& stop) {
   const std::int64_t id = request.run_id();
   v1::Run run = get(id, false);  // NOT_FOUND before the stream starts
+  require_not_quarantined(id);
   std::uint64_t cursor = request.after_seq();
   const bool no_progress = request.no_progress();
   constexpr std::size_t kBatch = 1000;

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -13,11 +14,13 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include "core/simulation/events.hpp"
 #include "core/simulation/simulation.hpp"
 #include "kessler/v1/service.pb.h"
 #include "server/event_hub.hpp"
+#include "server/run_limits.hpp"
 #include "server/scheduler.hpp"
 #include "server/store.hpp"
 
@@ -58,6 +61,10 @@ struct ManagerOptions {
   // Applied to each run's core configuration after the scenario's (tests: settings no scenario field
   // reaches). Empty: none.
   std::function<void(SimulationConfig&)> adjust_config;
+  // Per-run limits checked at submission, and the stored events a run may emit (run_limits.hpp).
+  RunLimits limits;
+  // While the store cannot write, how often a small write probes whether it can again.
+  std::chrono::milliseconds store_probe_interval{1000};
 };
 
 // Allocator settings for a process that hosts runs: blocks up to 32 MB come from the heap and freed
@@ -124,6 +131,10 @@ class RunManager {
   void shutdown();
 
   Store& store() { return store_; }
+  // Faults (run_faults.cpp). Whether the store can write, so submissions are taken; `listener` hears
+  // each change (the health service's NOT_SERVING for the API while it cannot). Empty: none.
+  bool store_writable();
+  void set_store_health_listener(std::function<void(bool writable)> listener);
   // CPU seconds of every run's relay thread so far (for the benchmark).
   double relay_cpu_s() const { return relay_cpu_s_.load(); }
 
@@ -139,9 +150,39 @@ class RunManager {
   // with_scenario false: without the (possibly large) scenario message.
   v1::Run get(std::int64_t run_id, bool with_scenario);
   void execute(std::int64_t run_id, RunControl& control);
+  void execute_run(std::int64_t run_id, RunControl& control);
   std::shared_ptr<EventHub> hub(std::int64_t run_id);
   void finish(std::int64_t run_id, v1::RunState state, const std::string& error,
               const v1::RunSummary* summary);
+
+  // Faults (run_faults.cpp).
+  void recover();  // queues the runs a previous daemon left running or queued
+  void note_store_failure(std::int64_t run_id, const std::string& error);
+  std::optional<std::string> take_store_failure(std::int64_t run_id);
+  void require_writable();  // UNAVAILABLE while the store cannot write
+  void require_not_quarantined(std::int64_t run_id);
+  void overlay_faults(v1::Run& run);  // an end not yet written, a quarantine
+  void record_finish_later(std::int64_t run_id, v1::RunState state, const std::string& error,
+                           const v1::RunSummary* summary);
+  void write_unrecorded();
+  void health_loop();
+  void stop_health_thread();
+  void start_health_thread();
+
+  struct Unrecorded {
+    v1::RunState state = v1::RUN_STATE_FAILED;
+    std::string error;
+    std::optional<v1::RunSummary> summary;
+  };
+  std::mutex faults_mutex_;
+  std::map<std::int64_t, std::string> store_failures_;  // runs whose events could not be written
+  std::map<std::int64_t, Unrecorded> unrecorded_;       // ends the store could not take yet
+  bool recovery_pending_ = false;
+  bool health_stop_ = false;
+  bool reported_writable_ = true;
+  std::function<void(bool)> health_listener_;
+  std::condition_variable health_cv_;
+  std::thread health_thread_;
 
   ManagerOptions options_;
   Store store_;

@@ -4,6 +4,9 @@
 #include "server/store.hpp"
 
 #include <pthread.h>
+#include <sys/statvfs.h>
+
+#include <filesystem>
 
 #include "server/store_internal.hpp"
 
@@ -140,10 +143,19 @@ const char* const kMigrations[] = {
 constexpr int kMigrationCount = sizeof(kMigrations) / sizeof(kMigrations[0]);
 static_assert(kMigrationCount == Store::kSchemaVersion);
 
+// Bytes an unprivileged writer may still use on the filesystem holding `path` (max when unknown).
+std::uint64_t free_bytes_at(const std::string& path) {
+  const std::filesystem::path parent = std::filesystem::absolute(path).parent_path();
+  struct statvfs fs {};
+  if (::statvfs(parent.c_str(), &fs) != 0) return UINT64_MAX;
+  return static_cast<std::uint64_t>(fs.f_bavail) * fs.f_frsize;
+}
+
 }  // namespace
 
 Store::Store(const std::string& path, std::chrono::milliseconds min_checkpoint_interval)
     : path_(path), min_checkpoint_interval_(min_checkpoint_interval) {
+  prepare_private_files(path);
   writer_db_ = open_connection(path);
   all_.push_back(writer_db_);
   // Migrations run on the writer's connection before the writer thread starts.
@@ -166,6 +178,7 @@ Store::Store(const std::string& path, std::chrono::milliseconds min_checkpoint_i
       throw;
     }
   }
+  check_at_open();
   writer_ = std::thread([this] {
     pthread_setname_np(pthread_self(), "kessler-store");  // for top -H and profilers
     writer_loop();
@@ -180,6 +193,71 @@ Store::~Store() {
   queue_cv_.notify_all();
   if (writer_.joinable()) writer_.join();
   for (sqlite3* db : all_) sqlite3_close(db);
+}
+
+// Refuses a damaged database, quarantines runs whose stored events disagree with their summaries, and
+// drops the checkpoints of succeeded runs (nothing resumes them). A store that cannot write (a full
+// disk) still opens, for reads.
+void Store::check_at_open() {
+  DatabaseCheck check = check_database(writer_db_);
+  if (!check.structure_error.empty()) {
+    std::string runs;
+    for (const auto& [id, why] : check.corrupt_runs) runs += (runs.empty() ? "" : ", ") + std::to_string(id);
+    throw StoreError(
+        "store: " + path_ + " is damaged (" + check.structure_error + ")" +
+        (runs.empty() ? "" : "; runs whose stored events disagree with their summaries: " + runs) +
+        "; restore it from a backup, or recover it with sqlite3's .recover into a new file");
+  }
+  quarantined_ = std::move(check.corrupt_runs);
+  try {
+    exec(writer_db_, "DELETE FROM checkpoints WHERE run_id IN (SELECT id FROM runs WHERE state = " +
+                         std::to_string(static_cast<int>(v1::RUN_STATE_SUCCEEDED)) + ")");
+  } catch (const StoreError& e) {
+    health_.record_failure(e.what());
+  }
+}
+
+bool Store::probe_writable() {
+  try {
+    throw_if_failing_for_test();
+    Lease lease(*this);
+    exec(lease.db(), "BEGIN IMMEDIATE");
+    try {
+      // Grows the database by a few pages and frees them: needs the space a small batch of events needs.
+      exec(lease.db(),
+           "INSERT INTO checkpoints(run_id, last_seq, step, bytes) VALUES(-1, 0, 0, zeroblob(65536)); "
+           "DELETE FROM checkpoints WHERE run_id = -1");
+      exec(lease.db(), "COMMIT");
+    } catch (...) {
+      sqlite3_exec(lease.db(), "ROLLBACK", nullptr, nullptr, nullptr);
+      throw;
+    }
+    const std::uint64_t free_bytes = free_bytes_at(path_);
+    if (free_bytes < min_free_bytes_)
+      throw StoreError("store: " + std::to_string(free_bytes >> 20) +
+                       " MB free on the database's filesystem, below the " +
+                       std::to_string(min_free_bytes_ >> 20) + " MB writes resume at");
+    health_.record_success();
+    return true;
+  } catch (const StoreError& e) {
+    health_.record_failure(e.what());
+    return false;
+  }
+}
+
+void Store::set_write_failure_handler(std::function<void(std::int64_t, const std::string&)> handler) {
+  std::lock_guard lock(handler_mutex_);
+  write_failure_handler_ = std::move(handler);
+}
+
+void Store::fail_writes_for_test(const std::string& error) {
+  std::lock_guard lock(test_fault_mutex_);
+  test_fault_ = error;
+}
+
+void Store::throw_if_failing_for_test() {
+  std::lock_guard lock(test_fault_mutex_);
+  if (!test_fault_.empty()) throw StoreError("store: " + test_fault_);
 }
 
 sqlite3* Store::acquire() {

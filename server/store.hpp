@@ -7,10 +7,12 @@
 // use their own connections (WAL lets readers run beside the writer).
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -22,12 +24,13 @@
 
 #include "kessler/v1/names.hpp"
 #include "kessler/v1/service.pb.h"
+#include "server/store_health.hpp"
 
 struct sqlite3;
 
 namespace kessler::server {
 
-// Thrown for database failures (disk full, corrupt file): the daemon cannot go on.
+// Thrown for database failures (disk full, read-only file, I/O error, corrupt file).
 struct StoreError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
@@ -98,6 +101,23 @@ class Store {
 
   static constexpr int kSchemaVersion = 6;
   int schema_version();
+
+  // Faults (store_health.hpp). Whether writes pass now; a failed write marks the store unwritable
+  // until one passes again.
+  StoreHealth& health() { return health_; }
+  // A small write (grown and committed) and the free space of the database's filesystem (at least
+  // min_free_bytes), to learn whether the store can write again. True when it can.
+  bool probe_writable();
+  // The free space a probe asks for (default 64 MB): after a full disk, a small write may pass in the
+  // space a failed batch left in the WAL while the disk is still full.
+  void set_min_free_bytes(std::uint64_t bytes) { min_free_bytes_ = bytes; }
+  // Called by the writer thread, outside its locks, for each run whose events or checkpoint could not
+  // be written (their batch rolled back), with the error.
+  void set_write_failure_handler(std::function<void(std::int64_t run_id, const std::string& error)> handler);
+  // Runs the startup check quarantined (their stored events disagree with their summaries): id -> why.
+  const std::map<std::int64_t, std::string>& quarantined_runs() const { return quarantined_; }
+  // Tests where no small filesystem can be mounted: every write fails with `error` (empty: none).
+  void fail_writes_for_test(const std::string& error);
 
   // Runs. The id is assigned here. `submitter`: the token's name ("" without tokens); `request_id`:
   // the client's id of the submission ("" for none), unique per submitter.
@@ -200,8 +220,19 @@ class Store {
   sqlite3* acquire();
   void release(sqlite3* db);
 
+  void check_at_open();
+  void report_write_failure(const std::vector<Pending>& batch, const std::string& error);
+  void throw_if_failing_for_test();
+
   std::string path_;
   std::chrono::milliseconds min_checkpoint_interval_;
+  StoreHealth health_;
+  std::atomic<std::uint64_t> min_free_bytes_{64ull << 20};
+  std::map<std::int64_t, std::string> quarantined_;
+  std::mutex handler_mutex_;
+  std::function<void(std::int64_t, const std::string&)> write_failure_handler_;
+  std::mutex test_fault_mutex_;
+  std::string test_fault_;
   sqlite3* writer_db_ = nullptr;  // the writer thread's connection
   std::mutex pool_mutex_;
   std::vector<sqlite3*> pool_;  // idle reader connections

@@ -14,6 +14,7 @@ using namespace detail;
 
 std::int64_t Store::create_run(const v1::Scenario& scenario, int threads, double created_unix_s,
                                const std::string& submitter, const std::string& request_id) {
+  throw_if_failing_for_test();
   Lease lease(*this);
   return insert_run(lease.db(), scenario, threads, created_unix_s, 0, 0, submitter, request_id);
 }
@@ -187,6 +188,7 @@ std::vector<std::int64_t> Store::runs_in_state(v1::RunState state) {
 }
 
 void Store::set_running(std::int64_t run_id, double started_unix_s) {
+  throw_if_failing_for_test();
   Lease lease(*this);
   Statement s(lease.db(), "UPDATE runs SET state = ?, started_unix_s = ? WHERE id = ?");
   s.bind(1, static_cast<int>(v1::RUN_STATE_RUNNING)).bind(2, started_unix_s).bind(3, run_id);
@@ -194,6 +196,7 @@ void Store::set_running(std::int64_t run_id, double started_unix_s) {
 }
 
 void Store::set_queued(std::int64_t run_id) {
+  throw_if_failing_for_test();
   Lease lease(*this);
   Statement s(lease.db(), "UPDATE runs SET state = ? WHERE id = ?");
   s.bind(1, static_cast<int>(v1::RUN_STATE_QUEUED)).bind(2, run_id);
@@ -202,14 +205,28 @@ void Store::set_queued(std::int64_t run_id) {
 
 void Store::set_finished(std::int64_t run_id, v1::RunState state, double finished_unix_s,
                          const std::string& error, const v1::RunSummary* summary) {
+  throw_if_failing_for_test();
   Lease lease(*this);
-  Statement s(lease.db(),
-              "UPDATE runs SET state = ?, finished_unix_s = ?, error = ?, summary = ? WHERE id = ?");
-  s.bind(1, static_cast<int>(state)).bind(2, finished_unix_s).bind(3, error);
-  std::string bytes = summary ? summary->SerializeAsString() : std::string();
-  if (summary) s.bind_blob(4, bytes);
-  s.bind(5, run_id);
-  s.run();
+  exec(lease.db(), "BEGIN IMMEDIATE");
+  try {
+    Statement s(lease.db(),
+                "UPDATE runs SET state = ?, finished_unix_s = ?, error = ?, summary = ? WHERE id = ?");
+    s.bind(1, static_cast<int>(state)).bind(2, finished_unix_s).bind(3, error);
+    std::string bytes = summary ? summary->SerializeAsString() : std::string();
+    if (summary) s.bind_blob(4, bytes);
+    s.bind(5, run_id);
+    s.run();
+    // A succeeded run is never resumed: its checkpoint goes. A failed or cancelled one keeps its last.
+    if (state == v1::RUN_STATE_SUCCEEDED) {
+      Statement prune(lease.db(), "DELETE FROM checkpoints WHERE run_id = ?");
+      prune.bind(1, run_id);
+      prune.run();
+    }
+    exec(lease.db(), "COMMIT");
+  } catch (...) {
+    sqlite3_exec(lease.db(), "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
 }
 
 void Store::set_ingest(std::int64_t run_id, const v1::IngestReport& report) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <set>
 
 #include "server/store.hpp"
 #include "server/store_internal.hpp"
@@ -136,6 +137,7 @@ void Store::writer_loop() {
   // kept anyway, and a run resumed from an older one re-emits the same events.
   std::map<std::int64_t, Pending> held;
   std::map<std::int64_t, Clock::time_point> last_written;
+  std::set<std::int64_t> failed_runs;  // runs with a batch that could not be written
   auto due_at = [&](std::int64_t run_id) {
     auto it = last_written.find(run_id);
     return it == last_written.end() ? Clock::time_point::min() : it->second + min_checkpoint_interval_;
@@ -201,7 +203,28 @@ void Store::writer_loop() {
         ++it;
       }
     }
-    if (!to_write.empty()) write_batch(to_write, statements);
+    // A run whose events could not be written gets nothing more written (its later checkpoints would
+    // skip the lost events): it fails, or resumes from a checkpoint taken before them.
+    done += static_cast<std::uint64_t>(std::erase_if(to_write, [&](const Pending& p) {
+      return failed_runs.count(p.is_checkpoint ? p.run_id : p.event->run_id()) > 0;
+    }));
+    if (!to_write.empty()) {
+      // A failed batch (disk full, read-only, I/O error, a table gone) is rolled back and its runs
+      // told; the writer goes on, and the next batch that commits marks the store writable again.
+      try {
+        write_batch(to_write, statements);
+        health_.record_success();
+      } catch (const StoreError& e) {
+        for (Statement* st :
+             {&statements.event_insert, &statements.checkpoint_upsert, &statements.breakup_insert,
+              &statements.fragment_insert, &statements.lifecycle_insert})
+          st->reset();
+        sqlite3_exec(writer_db_, "ROLLBACK", nullptr, nullptr, nullptr);
+        health_.record_failure(e.what());
+        for (const Pending& p : to_write) failed_runs.insert(p.is_checkpoint ? p.run_id : p.event->run_id());
+        report_write_failure(to_write, e.what());
+      }
+    }
     done += to_write.size();
     const double cpu = thread_cpu_s() - cpu0;
     {
@@ -213,7 +236,20 @@ void Store::writer_loop() {
   }
 }
 
+void Store::report_write_failure(const std::vector<Pending>& batch, const std::string& error) {
+  std::set<std::int64_t> runs;
+  for (const Pending& p : batch) runs.insert(p.is_checkpoint ? p.run_id : p.event->run_id());
+  std::function<void(std::int64_t, const std::string&)> handler;
+  {
+    std::lock_guard lock(handler_mutex_);
+    handler = write_failure_handler_;
+  }
+  if (handler)
+    for (std::int64_t run_id : runs) handler(run_id, error);
+}
+
 void Store::write_batch(std::vector<Pending>& batch, WriterStatements& statements) {
+  throw_if_failing_for_test();
   sqlite3* db = writer_db_;
   exec(db, "BEGIN IMMEDIATE");
   Statement& event_insert = statements.event_insert;

@@ -30,7 +30,14 @@ void add_watch_options(CLI::App& command, WatchOptions& options) {
       .add_option("--retry-s", options.retry_s,
                   "keep reconnecting for S seconds when the daemon goes away (default 60)")
       ->option_text("S")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            double v = 0;
+            return CLI::detail::lexical_cast(text, v) && v >= 0.0 && v <= 1e9
+                       ? std::string()
+                       : "must be a number of seconds from 0 to 1e9, got " + text.substr(0, 20);
+          },
+          "S", "seconds"));
 }
 
 namespace {

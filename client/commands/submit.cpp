@@ -12,6 +12,7 @@
 #include "client/commands/follow.hpp"
 #include "client/remote/cli_support.hpp"
 #include "client/remote/remote_client.hpp"
+#include "core/scenario/input_file.hpp"
 #include "core/scenario/run_builder.hpp"
 
 namespace kessler::cli {
@@ -26,23 +27,22 @@ struct SubmitOptions {
   WatchOptions follow;
 };
 
-bool read_file(const std::string& path, std::string& out) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  std::ostringstream s;
-  s << in.rdbuf();
-  out = s.str();
+// A regular text file only (core/scenario/input_file.hpp); otherwise *why says what it is.
+bool read_file(const std::string& path, std::string& out, std::string& why) {
+  auto text = read_input_file(path, &why);
+  if (!text) return false;
+  out = std::move(*text);
   return true;
 }
 
 // The request for the scenario file, with --catalog's text as its inline catalog. nullopt, else the
 // exit code after the error is printed.
 std::optional<int> make_request(const SubmitOptions& o, v1::SubmitRunRequest& request) {
-  std::string text;
-  if (!read_file(o.scenario_path, text)) return usage_error("submit", "cannot read " + o.scenario_path);
+  std::string text, why;
+  if (!read_file(o.scenario_path, text, why)) return usage_error("submit", o.scenario_path + " " + why);
   if (!o.catalog_path.empty()) {
     std::string catalog;
-    if (!read_file(o.catalog_path, catalog)) return usage_error("submit", "cannot read " + o.catalog_path);
+    if (!read_file(o.catalog_path, catalog, why)) return usage_error("submit", o.catalog_path + " " + why);
     v1::Scenario scenario;
     if (auto e = parse_scenario(text, scenario)) {
       std::cerr << "kessler submit: " << o.scenario_path << ": " << e->message() << "\n";

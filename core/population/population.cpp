@@ -116,6 +116,9 @@ std::optional<std::size_t> Population::index_of(ObjectId object_id) const {
   return std::nullopt;
 }
 
+// The largest object radius taken: the biggest structure in orbit spans about 110 m.
+constexpr double kMaxObjectRadius_m = 1000.0;
+
 std::optional<std::string> validate_record(const ObjectRecord& r) {
   auto problem = [&](const char* field, const std::string& reason) {
     std::ostringstream s;
@@ -128,7 +131,12 @@ std::optional<std::string> validate_record(const ObjectRecord& r) {
   if (!r.velocity_m_s.allFinite()) return problem("velocity", "is not finite");
   if (r.position_m.norm() < constants::kEarthEquatorialRadius_m - 30000.0)  // below the polar surface
     return problem("position", "is below the Earth's surface");
+  // Bound orbits only: an object at escape speed or above leaves the simulated domain.
+  const double energy_j_kg =
+      0.5 * r.velocity_m_s.squaredNorm() - constants::kEarthMu_m3_s2 / r.position_m.norm();
+  if (!(energy_j_kg < 0.0)) return problem("velocity", "is at or above escape speed (not a bound orbit)");
   if (!std::isfinite(r.radius_m) || r.radius_m <= 0.0) return problem("radius_m", "must be positive");
+  if (r.radius_m > kMaxObjectRadius_m) return problem("radius_m", "must be at most 1000 m");
   if (!std::isfinite(r.mass_kg) || r.mass_kg <= 0.0) return problem("mass_kg", "must be positive");
   if (!std::isfinite(r.drag_area_to_mass_m2_kg) || r.drag_area_to_mass_m2_kg < 0.0)
     return problem("drag_area_to_mass_m2_kg", "must be finite and non-negative");

@@ -7,7 +7,11 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <set>
+#include <string_view>
+#include <vector>
 
+#include "core/scenario/enum_names.hpp"
 #include "core/scenario/run_builder.hpp"
 
 namespace kessler {
@@ -19,6 +23,13 @@ std::string join_path(const std::string& path, const std::string& key) {
   return path.empty() ? key : path + "." + key;
 }
 
+// Bad input is quoted by a short prefix only: an error message must stay small whatever was sent.
+std::string quoted_prefix(const std::string& text) {
+  constexpr std::size_t kMaxQuoted = 40;
+  if (text.size() <= kMaxQuoted) return text;
+  return text.substr(0, kMaxQuoted) + "... (" + std::to_string(text.size()) + " bytes)";
+}
+
 std::string describe(const YAML::Node& node) {
   switch (node.Type()) {
     case YAML::NodeType::Map:
@@ -28,24 +39,41 @@ std::string describe(const YAML::Node& node) {
     case YAML::NodeType::Null:
       return "nothing";
     case YAML::NodeType::Scalar:
-      return (node.Tag() == "!" ? "the string '" : "'") + node.Scalar() + "'";
+      return (node.Tag() == "!" ? "the string '" : "'") + quoted_prefix(node.Scalar()) + "'";
     default:
       return "an undefined value";
   }
 }
 
-// The short name of an enum value: PROPAGATOR_SGP4 -> sgp4, given the type's prefix PROPAGATOR_.
-std::string short_enum_name(const pb::EnumValueDescriptor* value) {
-  std::string prefix;
-  for (char c : value->type()->name()) {
-    if (std::isupper(static_cast<unsigned char>(c)) && !prefix.empty()) prefix += '_';
-    prefix += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+// Whether a document marker ('---', or '...' then more) follows content at the top level. A marker is
+// a line that starts with it at column 0 (content of a block scalar is indented, so it has none).
+// yaml-cpp's LoadAll would tell too, but it loops forever on some malformed texts.
+bool holds_a_second_document(std::string_view text) {
+  bool content = false, ended = false;
+  std::size_t at = 0;
+  while (at < text.size()) {
+    std::size_t end = text.find('\n', at);
+    if (end == std::string_view::npos) end = text.size();
+    const std::string_view line = text.substr(at, end - at);
+    at = end + 1;
+    const bool start_marker =
+        line.rfind("---", 0) == 0 && (line.size() == 3 || std::isspace(static_cast<unsigned char>(line[3])));
+    const bool end_marker =
+        line.rfind("...", 0) == 0 && (line.size() == 3 || std::isspace(static_cast<unsigned char>(line[3])));
+    if (start_marker) {
+      if (content || ended) return true;
+      continue;
+    }
+    if (end_marker) {
+      ended = content;
+      continue;
+    }
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string_view::npos || line[first] == '#') continue;
+    if (ended) return true;
+    content = true;
   }
-  prefix += '_';
-  std::string name = value->name();
-  if (name.rfind(prefix, 0) == 0) name = name.substr(prefix.size());
-  for (auto& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return name;
+  return false;
 }
 
 class Mapper {
@@ -54,6 +82,7 @@ class Mapper {
     if (!node.IsMap()) return FieldError{path, "expected a mapping of keys, got " + describe(node)};
     const pb::Descriptor* desc = msg.GetDescriptor();
     const pb::Reflection* refl = msg.GetReflection();
+    std::set<int> seen;  // field numbers: a key given twice (or in both spellings) is refused
     for (const auto& kv : node) {
       if (!kv.first.IsScalar()) return FieldError{path, "a key must be a plain name"};
       const std::string key = kv.first.Scalar();
@@ -64,8 +93,9 @@ class Mapper {
       if (!field) {
         std::string known;
         for (int i = 0; i < desc->field_count(); ++i) known += (i ? ", " : "") + desc->field(i)->name();
-        return FieldError{key_path, "unknown key (known keys here: " + known + ")"};
+        return FieldError{quoted_prefix(key_path), "unknown key (known keys here: " + known + ")"};
       }
+      if (!seen.insert(field->number()).second) return FieldError{key_path, "is given twice"};
       if (const pb::OneofDescriptor* oneof = field->real_containing_oneof()) {
         if (const pb::FieldDescriptor* other = refl->GetOneofFieldDescriptor(msg, oneof))
           return FieldError{key_path, "conflicts with '" + other->name() + "': give only one of them"};
@@ -213,6 +243,10 @@ std::optional<FieldError> parse_scenario(std::string_view text, v1::Scenario& ou
   out.Clear();
   YAML::Node root;
   try {
+    if (holds_a_second_document(text))
+      return FieldError{"",
+                        "the text holds 2 YAML documents (a '---' or '...' line after the first); a "
+                        "scenario is one"};
     root = YAML::Load(std::string(text));
   } catch (const YAML::ParserException& e) {
     return FieldError{"", "not valid YAML or JSON: line " + std::to_string(e.mark.line + 1) + ", column " +

@@ -1,11 +1,13 @@
 // Range and consistency checks of a scenario, and its mapping onto the core's SimulationConfig.
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 #include "core/catalog/leo19647.hpp"
+#include "core/conjunctions/detector.hpp"
 #include "core/scenario/breakup_validation.hpp"
+#include "core/scenario/enum_names.hpp"
+#include "core/scenario/input_file.hpp"
 #include "core/scenario/run_builder.hpp"
 #include "core/scenario/scenario_defaults.hpp"
 #include "core/scenario/traffic_validation.hpp"
@@ -29,6 +31,48 @@ std::optional<FieldError> non_negative(bool has, double v, const char* path) {
   if (has && !(v >= 0.0 && std::isfinite(v)))
     return FieldError{path, "must not be negative, got " + number(v)};
   return std::nullopt;
+}
+
+// Every enum field set anywhere in the message holds a number its type defines: a message sent over
+// the wire may carry any number, which would otherwise silently mean the default.
+std::optional<FieldError> validate_enums(const google::protobuf::Message& msg, const std::string& path) {
+  namespace pb = google::protobuf;
+  const pb::Reflection* refl = msg.GetReflection();
+  std::vector<const pb::FieldDescriptor*> fields;
+  refl->ListFields(msg, &fields);
+  for (const pb::FieldDescriptor* f : fields) {
+    const std::string here = path.empty() ? f->name() : path + "." + f->name();
+    const int count = f->is_repeated() ? refl->FieldSize(msg, f) : 1;
+    for (int i = 0; i < count; ++i) {
+      const std::string at = f->is_repeated() ? here + "[" + std::to_string(i) + "]" : here;
+      if (f->cpp_type() == pb::FieldDescriptor::CPPTYPE_ENUM) {
+        const int number =
+            f->is_repeated() ? refl->GetRepeatedEnumValue(msg, f, i) : refl->GetEnumValue(msg, f);
+        if (!f->enum_type()->FindValueByNumber(number))
+          return FieldError{at, "unknown value " + std::to_string(number) + " (expected one of: " +
+                                    short_enum_choices(f->enum_type()) + ")"};
+      } else if (f->cpp_type() == pb::FieldDescriptor::CPPTYPE_MESSAGE) {
+        const pb::Message& sub =
+            f->is_repeated() ? refl->GetRepeatedMessage(msg, f, i) : refl->GetMessage(msg, f);
+        if (auto e = validate_enums(sub, at)) return e;
+      }
+    }
+  }
+  return std::nullopt;
+}
+
+// What the conjunction detector would refuse when the run starts (a screening distance whose cutoff
+// exceeds the grid's domain, a step too long), checked at submission.
+std::optional<FieldError> validate_detector(const v1::Scenario& s) {
+  const SimulationConfig config = to_simulation_config(s);
+  if (!config.conjunctions_enabled) return std::nullopt;
+  auto problem = ConjunctionDetector::validate(config.conjunctions, config.dt_s);
+  if (!problem) return std::nullopt;
+  std::string path = "conjunctions";
+  if (problem->rfind("kappa_max", 0) == 0) path = "conjunctions.kappa_max";
+  if (problem->rfind("screening_distance_m", 0) == 0) path = "conjunctions.screening_distance_km";
+  if (problem->rfind("dt_s", 0) == 0) path = "dt_s";
+  return FieldError{path, *problem};
 }
 
 bool is_leo19647(const v1::Scenario& s) {
@@ -141,8 +185,13 @@ std::optional<FieldError> validate_population(const v1::Scenario& scenario) {
                           "must be in [0, 1], got " + number(s.active_fraction())};
       const double lo = s.has_min_altitude_km() ? s.min_altitude_km() : d::kSyntheticMinAltitudeKm;
       const double hi = s.has_max_altitude_km() ? s.max_altitude_km() : d::kSyntheticMaxAltitudeKm;
-      if (!(lo > 0.0))
-        return FieldError{"population.synthetic.min_altitude_km", "must be positive, got " + number(lo)};
+      // The generator's band: from 100 km (lower orbits decay within a day) to 40,000 km.
+      if (!(lo >= 100.0 && lo < 40000.0))
+        return FieldError{"population.synthetic.min_altitude_km",
+                          "must be in [100, 40000) km, got " + number(lo)};
+      if (!(hi <= 40000.0))
+        return FieldError{"population.synthetic.max_altitude_km",
+                          "must be at most 40000 km, got " + number(hi)};
       if (!(hi > lo))
         return FieldError{"population.synthetic.max_altitude_km",
                           "must be above min_altitude_km (" + number(lo) + " km), got " + number(hi) + " km"};
@@ -165,6 +214,7 @@ std::optional<FieldError> validate_population(const v1::Scenario& scenario) {
 }  // namespace
 
 std::optional<FieldError> validate_scenario(const v1::Scenario& s) {
+  if (auto e = validate_enums(s, "")) return e;
   std::string why;
   if (!s.start_epoch().empty() && !UtcEpoch::parse_iso8601(s.start_epoch(), &why))
     return FieldError{"start_epoch", why};
@@ -214,7 +264,8 @@ std::optional<FieldError> validate_scenario(const v1::Scenario& s) {
   steps.dt_s = dt;
   if (auto e = validate_breakups(s, start_of(s), static_cast<double>(total_steps_of(steps)) * dt)) return e;
   if (auto e = validate_traffic(s)) return e;
-  return validate_population(s);
+  if (auto e = validate_population(s)) return e;
+  return validate_detector(s);
 }
 
 SimulationConfig to_simulation_config(const v1::Scenario& s, int threads) {
@@ -267,11 +318,10 @@ SimulationConfig to_simulation_config(const v1::Scenario& s, int threads) {
 }
 
 std::optional<FieldError> load_scenario_file(const std::string& path, v1::Scenario& out) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return FieldError{"", "cannot read scenario file '" + path + "'"};
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_scenario(text.str(), out);
+  std::string why;
+  auto text = read_input_file(path, &why);
+  if (!text) return FieldError{"", "scenario file '" + path + "' " + why};
+  return parse_scenario(*text, out);
 }
 
 }  // namespace kessler

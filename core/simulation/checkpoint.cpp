@@ -57,6 +57,9 @@ class Reader {
     if (static_cast<std::size_t>(end_ - p_) < n)
       throw std::runtime_error(std::string("checkpoint: truncated in ") + what);
   }
+  // `n` items of at least `bytes_each` bytes must still be there: a count read from the bytes is
+  // checked against them before anything is allocated for it (n is at most kMaxObjects).
+  void need_items(std::uint64_t n, std::size_t bytes_each, const char* what) { need(n * bytes_each, what); }
   std::uint8_t u8(const char* what) {
     need(1, what);
     return static_cast<std::uint8_t>(*p_++);
@@ -93,6 +96,7 @@ class Reader {
   void doubles(std::vector<double>& v, std::size_t n, const char* what) {
     need(8 * n, what);
     v.resize(n);
+    if (n == 0) return;  // an empty vector's data() may be null, which memcpy must not get
     if constexpr (std::endian::native == std::endian::little) {
       std::memcpy(v.data(), p_, 8 * n);
       p_ += 8 * n;
@@ -218,6 +222,7 @@ void read_traffic(Reader& r, CheckpointState& s) {
   s.traffic.next_launch = r.u64("launch counter");
   const std::uint64_t active = r.u64("active lifecycles");
   if (active > kMaxObjects) throw std::runtime_error("checkpoint: implausible active lifecycles");
+  r.need_items(active, 25, "active lifecycles");
   s.traffic.active.resize(active);
   for (ActiveLife& a : s.traffic.active) {
     a.id = r.u64("active lifecycles");
@@ -260,10 +265,12 @@ CheckpointState decode_checkpoint(const std::string& bytes) {
   s.events_digest_state = r.str("events digest");
   std::uint64_t pairs = r.u64("closest-encounter table");
   if (pairs > kMaxObjects) throw std::runtime_error("checkpoint: implausible closest-encounter table size");
+  r.need_items(pairs, 8, "closest-encounter table");
   s.closest_per_pair.reserve(pairs);
   for (std::uint64_t i = 0; i < pairs; ++i) for_each_field(s.closest_per_pair.emplace_back(), ReadField{r});
   std::uint64_t n = r.u64("population size");
   if (n > kMaxObjects) throw std::runtime_error("checkpoint: implausible population size");
+  r.need_items(n, 88, "population");  // an id and ten doubles (8 bytes each), at least
   Population& p = s.population;
   p.id.resize(n);
   for (auto& id : p.id) id = r.u64("ids");

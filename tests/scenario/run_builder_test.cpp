@@ -113,7 +113,8 @@ TEST(RunBuilder, ACheckpointOfAnotherScenarioIsRefused) {
   RunControl c;
   run(s, 1, sink, c);
   ASSERT_FALSE(sink.checkpoints.empty());
-  auto other = leo_subset("dt_s: 5\n");
+  auto other = leo_subset();
+  other.set_dt_s(5);
   FieldError error;
   EXPECT_FALSE(resume_simulation(other, sink.checkpoints.back().second, BuildOptions{}, &error));
   EXPECT_EQ(error.path, "checkpoint");

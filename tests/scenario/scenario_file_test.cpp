@@ -252,7 +252,7 @@ TEST(ScenarioFilesShipped, AMissingFileIsAClearError) {
   v1::Scenario s;
   auto error = load_scenario_file("/nonexistent/x.yaml", s);
   ASSERT_TRUE(error);
-  EXPECT_EQ(error->message(), "cannot read scenario file '/nonexistent/x.yaml'");
+  EXPECT_EQ(error->message(), "scenario file '/nonexistent/x.yaml' cannot be read (No such file or directory)");
 }
 
 }  // namespace
