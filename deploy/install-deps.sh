@@ -11,6 +11,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-format clang-tidy zlib1g-dev libssl-dev
   libsimdjson-dev libpugixml-dev
+  nlohmann-json3-dev
 )
 
 missing=()

@@ -91,6 +91,14 @@ class Service final : public v1::KesslerService::Service {
                              v1::ListFragmentsResponse* out) override {
     return guarded(c, [&] { *out = m_.fragments(*r); });
   }
+  grpc::Status ListSnapshots(grpc::ServerContext* c, const v1::ListSnapshotsRequest* r,
+                             v1::ListSnapshotsResponse* out) override {
+    return guarded(c, [&] { *out = m_.list_snapshots(*r); });
+  }
+  grpc::Status GetSnapshot(grpc::ServerContext* c, const v1::GetSnapshotRequest* r,
+                           v1::GetSnapshotResponse* out) override {
+    return guarded(c, [&] { *out = m_.get_snapshot(*r); });
+  }
   grpc::Status SubmitEnsemble(grpc::ServerContext* c, const v1::SubmitEnsembleRequest* r,
                               v1::EnsembleReport* out) override {
     return guarded(c, [&] { *out = m_.submit_ensemble(*r); });

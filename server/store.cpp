@@ -125,6 +125,17 @@ const char* const kMigrations[] = {
     ALTER TABLE runs ADD COLUMN member_index INTEGER NOT NULL DEFAULT 0;
     CREATE INDEX runs_by_ensemble ON runs(ensemble_id, member_index) WHERE ensemble_id != 0;
     )sql",
+    // Population snapshots: one compressed blob per run and step (server/snapshot_codec.hpp).
+    R"sql(
+    CREATE TABLE snapshots (
+      run_id INTEGER NOT NULL,
+      step INTEGER NOT NULL,
+      sim_time_s REAL NOT NULL,
+      objects INTEGER NOT NULL,
+      bytes BLOB NOT NULL,
+      PRIMARY KEY (run_id, step)
+    ) WITHOUT ROWID;
+    )sql",
 };
 constexpr int kMigrationCount = sizeof(kMigrations) / sizeof(kMigrations[0]);
 static_assert(kMigrationCount == Store::kSchemaVersion);

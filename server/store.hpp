@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/simulation/snapshots.hpp"
 #include "kessler/v1/names.hpp"
 #include "kessler/v1/service.pb.h"
 
@@ -67,6 +68,14 @@ struct MemberResults {
                                                        // (collisions too, not evasions) at or below it
 };
 
+// A stored snapshot's row, without its objects.
+struct StoredSnapshotInfo {
+  std::int64_t step = 0;
+  double sim_time_s = 0.0;
+  std::uint64_t objects = 0;
+  std::uint64_t stored_bytes = 0;
+};
+
 // One page of a query: items and the token of the next page (empty on the last).
 template <typename T>
 struct Page {
@@ -87,7 +96,7 @@ class Store {
   Store(const Store&) = delete;
   Store& operator=(const Store&) = delete;
 
-  static constexpr int kSchemaVersion = 5;
+  static constexpr int kSchemaVersion = 6;
   int schema_version();
 
   // Runs. The id is assigned here.
@@ -155,6 +164,16 @@ class Store {
   v1::RunStats run_stats(const v1::GetRunStatsRequest& request, double run_length_s);
   // By fragment id; the page token is the offset (std::invalid_argument for a token not from a page).
   Page<v1::Fragment> list_fragments(const v1::ListFragmentsRequest& request);
+
+  // Population snapshots (store_snapshots.cpp), through the writer thread in order with the events;
+  // encoded there (server/snapshot_codec.hpp) and stored idempotently by (run, step).
+  void append_snapshot(std::int64_t run_id, std::shared_ptr<const PopulationSnapshot> snapshot);
+  // By step; the page token is the last step of the previous page (std::invalid_argument for a bad one).
+  Page<StoredSnapshotInfo> list_snapshots(std::int64_t run_id, int page_size, const std::string& page_token);
+  // The last snapshot at or before `step` (the newest when nullopt), decoded; nullopt when none.
+  std::optional<PopulationSnapshot> read_snapshot(std::int64_t run_id, std::optional<std::int64_t> step);
+  // Its row alone.
+  std::optional<StoredSnapshotInfo> snapshot_info(std::int64_t run_id, std::optional<std::int64_t> step);
 
   // Rows written by the writer thread since the store opened (events), for the benchmark.
   std::uint64_t events_written() const;

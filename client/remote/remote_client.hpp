@@ -39,6 +39,8 @@ class RemoteClient {
   CallResult conjunctions(const v1::ListConjunctionsRequest& request, v1::ListConjunctionsResponse& out);
   CallResult stats(const v1::GetRunStatsRequest& request, v1::RunStats& out);
   CallResult fragments(const v1::ListFragmentsRequest& request, v1::ListFragmentsResponse& out);
+  CallResult snapshots(const v1::ListSnapshotsRequest& request, v1::ListSnapshotsResponse& out);
+  CallResult snapshot(const v1::GetSnapshotRequest& request, v1::GetSnapshotResponse& out);
   CallResult submit_ensemble(const v1::SubmitEnsembleRequest& request, v1::EnsembleReport& out);
   CallResult get_ensemble(const v1::GetEnsembleRequest& request, v1::EnsembleReport& out);
   CallResult list_ensembles(const v1::ListEnsemblesRequest& request, v1::ListEnsemblesResponse& out);
