@@ -67,7 +67,15 @@ class EventRelay final : public EventSink {
  private:
   // One item as the simulation handed it over (the core's own types: no wire work on its thread).
   struct Item {
-    enum class Kind : std::uint8_t { kEncounter, kBurnUp, kProgress, kBreakup, kLifecycle, kCheckpoint, kSnapshot };
+    enum class Kind : std::uint8_t {
+      kEncounter,
+      kBurnUp,
+      kProgress,
+      kBreakup,
+      kLifecycle,
+      kCheckpoint,
+      kSnapshot
+    };
     Kind kind = Kind::kEncounter;
     std::uint64_t seq = 0;  // last_seq for a checkpoint
     Encounter encounter;

@@ -96,7 +96,8 @@ class RunManager {
   // the run has none), and the rows of every stored snapshot. NOT_FOUND for an unknown run.
   v1::ListSnapshotsResponse list_snapshots(const v1::ListSnapshotsRequest& request);
   v1::GetSnapshotResponse get_snapshot(const v1::GetSnapshotRequest& request);
-  std::optional<PopulationSnapshot> population_snapshot(std::int64_t run_id, std::optional<std::int64_t> step);
+  std::optional<PopulationSnapshot> population_snapshot(std::int64_t run_id,
+                                                        std::optional<std::int64_t> step);
   std::vector<StoredSnapshotInfo> snapshot_steps(std::int64_t run_id);
 
   // Ensembles (server/ensembles.cpp).

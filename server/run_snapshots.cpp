@@ -76,10 +76,11 @@ void check_request(const v1::GetSnapshotRequest& r) {
   for (int k : r.kinds())
     if (!v1::ObjectKind_IsValid(k) || k == v1::OBJECT_KIND_UNSPECIFIED)
       throw ServiceError(Code::kInvalidArgument, "kinds: unknown kind " + std::to_string(k), "kinds");
-  for (auto [has, value, path] : {std::tuple{r.has_min_radius_m(), r.min_radius_m(), "min_radius_m"},
-                                  std::tuple{r.has_max_radius_m(), r.max_radius_m(), "max_radius_m"},
-                                  std::tuple{r.has_min_altitude_km(), r.min_altitude_km(), "min_altitude_km"},
-                                  std::tuple{r.has_max_altitude_km(), r.max_altitude_km(), "max_altitude_km"}})
+  for (auto [has, value, path] :
+       {std::tuple{r.has_min_radius_m(), r.min_radius_m(), "min_radius_m"},
+        std::tuple{r.has_max_radius_m(), r.max_radius_m(), "max_radius_m"},
+        std::tuple{r.has_min_altitude_km(), r.min_altitude_km(), "min_altitude_km"},
+        std::tuple{r.has_max_altitude_km(), r.max_altitude_km(), "max_altitude_km"}})
     if (has && !std::isfinite(value))
       throw ServiceError(Code::kInvalidArgument, std::string(path) + ": must be a finite number", path);
 }
@@ -104,7 +105,8 @@ std::optional<std::int64_t> RunManager::snapshot_step(const v1::Run& run, const 
       std::string why;
       const auto epoch = UtcEpoch::parse_iso8601(r.epoch(), &why);
       if (!epoch) throw ServiceError(Code::kInvalidArgument, "epoch: " + why, "epoch");
-      return static_cast<std::int64_t>(std::floor(epoch->seconds_since(start_epoch(run)) / dt_s * (1.0 + 1e-12)));
+      return static_cast<std::int64_t>(
+          std::floor(epoch->seconds_since(start_epoch(run)) / dt_s * (1.0 + 1e-12)));
     }
     case v1::GetSnapshotRequest::AT_NOT_SET:
       break;
@@ -143,7 +145,8 @@ v1::GetSnapshotResponse RunManager::get_snapshot(const v1::GetSnapshotRequest& r
       used = 0;
     }
     if (used != request.page_token().size())
-      throw ServiceError(Code::kInvalidArgument, "page_token: not a token from a previous page", "page_token");
+      throw ServiceError(Code::kInvalidArgument, "page_token: not a token from a previous page",
+                         "page_token");
   }
   const auto info = store_.snapshot_info(request.run_id(), step);
   if (!info)

@@ -40,8 +40,8 @@ T get(const std::string& in, std::size_t& at) {
 // The float columns in the format's order (S: PopulationSnapshot, const or not).
 template <class S>
 auto float_columns(S& s) {
-  return std::array{&s.radius_m,        &s.mass_kg,  &s.semi_major_axis_m,         &s.eccentricity,
-          &s.inclination_rad, &s.raan_rad, &s.argument_of_perigee_rad, &s.mean_anomaly_rad};
+  return std::array{&s.radius_m,        &s.mass_kg,  &s.semi_major_axis_m,       &s.eccentricity,
+                    &s.inclination_rad, &s.raan_rad, &s.argument_of_perigee_rad, &s.mean_anomaly_rad};
 }
 
 void put_shuffled(std::string& out, const std::vector<float>& column) {

@@ -138,7 +138,7 @@ struct Store::Pending {
   std::int64_t step = 0;
   std::shared_ptr<const std::string> checkpoint;
   std::shared_ptr<const std::vector<StoredFragment>> fragments;  // a breakup event's
-  std::shared_ptr<const PopulationSnapshot> snapshot;             // or a snapshot (with run_id)
+  std::shared_ptr<const PopulationSnapshot> snapshot;            // or a snapshot (with run_id)
   bool is_checkpoint = false;
   bool discard = false;  // a checkpoint item that drops the run's waiting checkpoint
 };

@@ -12,7 +12,7 @@ namespace kessler::server {
 using namespace detail;
 
 // A resumed run hands over again the snapshots after its checkpoint: the first copy stays.
-const char* const kSnapshotInsertSql =
+const char* const detail::kSnapshotInsertSql =
     "INSERT OR IGNORE INTO snapshots(run_id, step, sim_time_s, objects, bytes) VALUES(?, ?, ?, ?, ?)";
 
 void detail::write_snapshot_row(Statement& snapshot_insert, std::int64_t run_id,
@@ -35,7 +35,8 @@ void Store::append_snapshot(std::int64_t run_id, std::shared_ptr<const Populatio
   queue_cv_.notify_one();
 }
 
-Page<StoredSnapshotInfo> Store::list_snapshots(std::int64_t run_id, int page_size, const std::string& page_token) {
+Page<StoredSnapshotInfo> Store::list_snapshots(std::int64_t run_id, int page_size,
+                                               const std::string& page_token) {
   page_size = page_size <= 0 ? 1000 : std::min(page_size, 100000);
   std::int64_t after = -1;
   if (!page_token.empty()) {
@@ -64,8 +65,8 @@ Page<StoredSnapshotInfo> Store::list_snapshots(std::int64_t run_id, int page_siz
       page.next_token = std::to_string(page.items.back().step);
       break;
     }
-    page.items.push_back({s.i64(0), s.f64(1), static_cast<std::uint64_t>(s.i64(2)),
-                          static_cast<std::uint64_t>(s.i64(3))});
+    page.items.push_back(
+        {s.i64(0), s.f64(1), static_cast<std::uint64_t>(s.i64(2)), static_cast<std::uint64_t>(s.i64(3))});
   }
   return page;
 }
@@ -80,7 +81,8 @@ std::string snapshot_query(const char* columns, bool bounded) {
 
 }  // namespace
 
-std::optional<PopulationSnapshot> Store::read_snapshot(std::int64_t run_id, std::optional<std::int64_t> step) {
+std::optional<PopulationSnapshot> Store::read_snapshot(std::int64_t run_id,
+                                                       std::optional<std::int64_t> step) {
   Lease lease(*this);
   Statement s(lease.db(), snapshot_query("bytes", step.has_value()));
   s.bind(1, run_id);
@@ -93,7 +95,8 @@ std::optional<PopulationSnapshot> Store::read_snapshot(std::int64_t run_id, std:
   }
 }
 
-std::optional<StoredSnapshotInfo> Store::snapshot_info(std::int64_t run_id, std::optional<std::int64_t> step) {
+std::optional<StoredSnapshotInfo> Store::snapshot_info(std::int64_t run_id,
+                                                       std::optional<std::int64_t> step) {
   Lease lease(*this);
   Statement s(lease.db(), snapshot_query("step, sim_time_s, objects, LENGTH(bytes)", step.has_value()));
   s.bind(1, run_id);

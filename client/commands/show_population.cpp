@@ -91,10 +91,18 @@ void print_population(RemoteClient& client, std::int64_t run_id) {
   if (!fetch(client, run_id, first_page.snapshots(0).step(), start, at_start)) return;
   if (!fetch(client, run_id, std::numeric_limits<std::int64_t>::max(), end, at_end)) return;
   const std::vector<std::string> a = column_of(at_start), b = column_of(at_end);
-  static const char* const names[] = {"objects",          "  payload",          "  rocket body",
-                                      "  debris",         "  unknown",          "  fragments",
-                                      "  active",         "  passive",          "median radius [m]",
-                                      "median mass [kg]", "median altitude of a [km]", "density peak [km]",
+  static const char* const names[] = {"objects",
+                                      "  payload",
+                                      "  rocket body",
+                                      "  debris",
+                                      "  unknown",
+                                      "  fragments",
+                                      "  active",
+                                      "  passive",
+                                      "median radius [m]",
+                                      "median mass [kg]",
+                                      "median altitude of a [km]",
+                                      "density peak [km]",
                                       "  density there [objects/km^3]"};
   std::vector<std::vector<std::string>> rows;
   for (std::size_t k = 0; k < a.size(); ++k) rows.push_back({std::string("  ") + names[k], a[k], b[k]});

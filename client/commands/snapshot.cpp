@@ -51,17 +51,33 @@ const char* const kColumns =
     "argument_of_perigee_deg,mean_anomaly_deg,perigee_altitude_km,apogee_altitude_km";
 
 std::vector<double> numbers_of(const v1::SnapshotObject& o) {
-  return {o.radius_m(), o.mass_kg(), o.semi_major_axis_km(), o.eccentricity(), o.inclination_deg(), o.raan_deg(),
-          o.argument_of_perigee_deg(), o.mean_anomaly_deg(), o.perigee_altitude_km(), o.apogee_altitude_km()};
+  return {o.radius_m(),
+          o.mass_kg(),
+          o.semi_major_axis_km(),
+          o.eccentricity(),
+          o.inclination_deg(),
+          o.raan_deg(),
+          o.argument_of_perigee_deg(),
+          o.mean_anomaly_deg(),
+          o.perigee_altitude_km(),
+          o.apogee_altitude_km()};
 }
 
-void print_objects(const v1::SnapshotInfo& info, const std::vector<v1::SnapshotObject>& rows, OutputFormat format) {
+void print_objects(const v1::SnapshotInfo& info, const std::vector<v1::SnapshotObject>& rows,
+                   OutputFormat format) {
   if (format == OutputFormat::kJson) {
     std::cout << "{\"step\":" << info.step() << ",\"sim_time_s\":" << json_number(info.sim_time_s())
               << ",\"epoch\":" << json_string(info.epoch()) << ",\"objects\":[";
-    static const char* const keys[] = {"radius_m",        "mass_kg",  "semi_major_axis_km",      "eccentricity",
-                                       "inclination_deg", "raan_deg", "argument_of_perigee_deg", "mean_anomaly_deg",
-                                       "perigee_altitude_km", "apogee_altitude_km"};
+    static const char* const keys[] = {"radius_m",
+                                       "mass_kg",
+                                       "semi_major_axis_km",
+                                       "eccentricity",
+                                       "inclination_deg",
+                                       "raan_deg",
+                                       "argument_of_perigee_deg",
+                                       "mean_anomaly_deg",
+                                       "perigee_altitude_km",
+                                       "apogee_altitude_km"};
     for (std::size_t i = 0; i < rows.size(); ++i) {
       JsonObject obj;
       obj.add("id", static_cast<std::uint64_t>(rows[i].id())).add("kind", kind_text(rows[i].kind()));
@@ -104,8 +120,8 @@ int list_snapshots(const SnapshotOptions& o, RemoteClient& client, OutputFormat 
   }
   std::cout << "step,sim_time_s,epoch,objects,stored_bytes\n";
   for (const auto& s : rows)
-    std::cout << s.step() << "," << json_number(s.sim_time_s()) << "," << s.epoch() << "," << s.objects() << ","
-              << s.stored_bytes() << "\n";
+    std::cout << s.step() << "," << json_number(s.sim_time_s()) << "," << s.epoch() << "," << s.objects()
+              << "," << s.stored_bytes() << "\n";
   return kExitOk;
 }
 
@@ -123,8 +139,8 @@ int show_snapshot(const SnapshotOptions& o, const GlobalOptions& global) {
   for (const std::string& k : o.kinds) {
     const auto kind = kind_of(k);
     if (!kind)
-      return usage_error("snapshot", "--kind: unknown kind '" + k +
-                                         "' (payload, rocket_body, debris, unknown, fragment)");
+      return usage_error(
+          "snapshot", "--kind: unknown kind '" + k + "' (payload, rocket_body, debris, unknown, fragment)");
     request.add_kinds(*kind);
   }
   if (o.min_radius_m) request.set_min_radius_m(*o.min_radius_m);
@@ -157,16 +173,22 @@ int show_snapshot(const SnapshotOptions& o, const GlobalOptions& global) {
 CommandRun setup_snapshot(CLI::App& command, GlobalOptions& global) {
   auto o = std::make_shared<SnapshotOptions>();
   add_run_id(command, o->run_id);
-  command.add_option("--at", o->at, "the last snapshot at or before this epoch (ISO 8601 UTC); default the newest")
+  command
+      .add_option("--at", o->at,
+                  "the last snapshot at or before this epoch (ISO 8601 UTC); default the newest")
       ->option_text("EPOCH");
   command.add_option("--step", o->step, "the last snapshot at or before this step")->option_text("N");
-  command.add_option("--kind", o->kinds, "only objects of this kind (repeatable): payload, rocket_body, debris, "
-                                         "unknown, fragment")
+  command
+      .add_option("--kind", o->kinds,
+                  "only objects of this kind (repeatable): payload, rocket_body, debris, "
+                  "unknown, fragment")
       ->option_text("KIND");
   command.add_option("--min-radius-m", o->min_radius_m, "only objects with a radius of at least this [m]");
   command.add_option("--max-radius-m", o->max_radius_m, "only objects with a radius of at most this [m]");
-  command.add_option("--min-altitude-km", o->min_altitude_km, "only orbits whose apogee reaches this altitude [km]");
-  command.add_option("--max-altitude-km", o->max_altitude_km, "only orbits whose perigee is at most this altitude [km]");
+  command.add_option("--min-altitude-km", o->min_altitude_km,
+                     "only orbits whose apogee reaches this altitude [km]");
+  command.add_option("--max-altitude-km", o->max_altitude_km,
+                     "only orbits whose perigee is at most this altitude [km]");
   command.add_flag("--list", o->list, "list the run's snapshots (step, epoch, objects, stored size) instead");
   add_global_options(command, global,
                      "csv (default: a header row, then one row per object) or json (one object with the "

@@ -193,7 +193,8 @@ std::optional<FieldError> validate_scenario(const v1::Scenario& s) {
   if (auto e = non_negative(s.checkpoints().has_every_wall_s(), s.checkpoints().every_wall_s(),
                             "checkpoints.every_wall_s"))
     return e;
-  if (auto e = non_negative(s.snapshots().has_every_days(), s.snapshots().every_days(), "snapshots.every_days"))
+  if (auto e =
+          non_negative(s.snapshots().has_every_days(), s.snapshots().every_days(), "snapshots.every_days"))
     return e;
   const auto& c = s.conjunctions();
   if (c.has_kappa_max() && !(c.kappa_max() > 0.0 && c.kappa_max() <= 10.0))

@@ -86,7 +86,8 @@ PopulationSnapshot take_snapshot(const Population& p, std::int64_t step, double 
   for (std::size_t i = 0; i < n; ++i) {
     s.radius_m[i] = static_cast<float>(p.radius_m[i]);
     s.mass_kg[i] = static_cast<float>(p.mass_kg[i]);
-    const OsculatingElements el = osculating_elements(st.x[i], st.y[i], st.z[i], st.vx[i], st.vy[i], st.vz[i]);
+    const OsculatingElements el =
+        osculating_elements(st.x[i], st.y[i], st.z[i], st.vx[i], st.vy[i], st.vz[i]);
     s.semi_major_axis_m[i] = static_cast<float>(el.semi_major_axis_m);
     s.eccentricity[i] = static_cast<float>(el.eccentricity);
     s.inclination_rad[i] = static_cast<float>(el.inclination_rad);
@@ -174,7 +175,8 @@ DensityProfile spatial_density(const PopulationSnapshot& s, double first_altitud
 
 double DensityProfile::peak_altitude_km() const {
   if (objects_per_km3.empty()) return 0.0;
-  const auto peak = std::max_element(objects_per_km3.begin(), objects_per_km3.end()) - objects_per_km3.begin();
+  const auto peak =
+      std::max_element(objects_per_km3.begin(), objects_per_km3.end()) - objects_per_km3.begin();
   return first_altitude_km + shell_km * (static_cast<double>(peak) + 0.5);
 }
 

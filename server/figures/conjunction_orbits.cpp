@@ -26,12 +26,13 @@ void add_fractions(nlohmann::json& values, const std::vector<std::uint64_t>& cou
   std::uint64_t total = 0;
   for (std::uint64_t n : counts) total += n;
   for (std::size_t k = 0; k < counts.size(); ++k)
-    values.push_back({{"quantity", quantity},
-                      {"bin_start", bins.edges[k]},
-                      {"bin_end", bins.edges[k + 1]},
-                      {"group", group},
-                      {"count", counts[k]},
-                      {"fraction", total ? static_cast<double>(counts[k]) / static_cast<double>(total) : 0.0}});
+    values.push_back(
+        {{"quantity", quantity},
+         {"bin_start", bins.edges[k]},
+         {"bin_end", bins.edges[k + 1]},
+         {"group", group},
+         {"count", counts[k]},
+         {"fraction", total ? static_cast<double>(counts[k]) / static_cast<double>(total) : 0.0}});
 }
 
 nlohmann::json panel(const nlohmann::json& values, const std::string& quantity, const std::string& x_title) {
@@ -70,10 +71,11 @@ nlohmann::json conjunction_orbits_figure(const std::vector<v1::Encounter>& conju
   add_fractions(values, h.conjunction_altitude, h.altitude, "altitude", "objects in conjunctions");
   add_fractions(values, h.population_inclination, h.inclination, "inclination", "population");
   add_fractions(values, h.conjunction_inclination, h.inclination, "inclination", "objects in conjunctions");
-  nlohmann::json out = spec("Orbits of objects in conjunctions",
-                            std::to_string(used) + " conjunctions; objects' osculating elements at closest "
-                                                   "approach against the population snapshot's at step " +
-                                std::to_string(population.step));
+  nlohmann::json out =
+      spec("Orbits of objects in conjunctions", std::to_string(used) +
+                                                    " conjunctions; objects' osculating elements at closest "
+                                                    "approach against the population snapshot's at step " +
+                                                    std::to_string(population.step));
   out["hconcat"] = {panel(values, "altitude", "semi-major axis altitude [km]"),
                     panel(values, "inclination", "inclination [deg]")};
   return out;

@@ -36,9 +36,17 @@ nlohmann::json pair_density_panel(const std::map<std::pair<std::size_t, std::siz
           {"data", {{"values", values}}},
           {"mark", "rect"},
           {"encoding",
-           {{"x", {{"field", "larger_start"}, {"type", "quantitative"}, {"scale", log}, {"title", "larger radius [m]"}}},
+           {{"x",
+             {{"field", "larger_start"},
+              {"type", "quantitative"},
+              {"scale", log},
+              {"title", "larger radius [m]"}}},
             {"x2", {{"field", "larger_end"}}},
-            {"y", {{"field", "smaller_start"}, {"type", "quantitative"}, {"scale", log}, {"title", "smaller radius [m]"}}},
+            {"y",
+             {{"field", "smaller_start"},
+              {"type", "quantitative"},
+              {"scale", log},
+              {"title", "smaller radius [m]"}}},
             {"y2", {{"field", "smaller_end"}}},
             {"color", {{"field", "conjunctions"}, {"type", "quantitative"}, {"title", "conjunctions"}}}}}};
 }
@@ -88,16 +96,21 @@ nlohmann::json conjunction_sizes_figure(const std::vector<v1::Encounter>& conjun
   nlohmann::json histogram = nlohmann::json::array();
   add_histogram(histogram, population_counts, bins, "population");
   add_histogram(histogram, conjunction_counts, bins, "objects in conjunctions");
-  nlohmann::json out = spec("Sizes of objects in conjunctions",
-                            std::to_string(used) + " conjunctions (each object counted once per conjunction); " +
-                                std::to_string(unmatched) + " with an object not in the population snapshot left out");
+  nlohmann::json out =
+      spec("Sizes of objects in conjunctions",
+           std::to_string(used) + " conjunctions (each object counted once per conjunction); " +
+               std::to_string(unmatched) + " with an object not in the population snapshot left out");
   out["hconcat"] = {
       pair_density_panel(cells, bins),
       {{"title", "radius distribution"},
        {"data", {{"values", histogram}}},
        {"mark", {{"type", "line"}, {"interpolate", "step-after"}, {"point", true}}},
        {"encoding",
-        {{"x", {{"field", "bin_start"}, {"type", "quantitative"}, {"scale", {{"type", "log"}}}, {"title", "radius [m]"}}},
+        {{"x",
+          {{"field", "bin_start"},
+           {"type", "quantitative"},
+           {"scale", {{"type", "log"}}},
+           {"title", "radius [m]"}}},
          {"y", {{"field", "fraction"}, {"type", "quantitative"}, {"title", "fraction of objects"}}},
          {"color", {{"field", "group"}, {"type", "nominal"}, {"title", ""}}}}}}};
   return out;

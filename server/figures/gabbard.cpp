@@ -37,9 +37,11 @@ nlohmann::json gabbard_figure(const std::vector<v1::Fragment>& fragments,
       }
       const std::size_t i = members[k];
       const double a_m = s.semi_major_axis_m[i], e = s.eccentricity[i];
-      const double period_min = 2.0 * std::numbers::pi * std::sqrt(a_m * a_m * a_m / constants::kEarthMu_m3_s2) / 60.0;
+      const double period_min =
+          2.0 * std::numbers::pi * std::sqrt(a_m * a_m * a_m / constants::kEarthMu_m3_s2) / 60.0;
       const std::string breakup = "breakup " + std::to_string(breakup_of[s.id[i]]);
-      for (const auto& [apsis, r_m] : {std::pair{"apogee", a_m * (1.0 + e)}, std::pair{"perigee", a_m * (1.0 - e)}})
+      for (const auto& [apsis, r_m] :
+           {std::pair{"apogee", a_m * (1.0 + e)}, std::pair{"perigee", a_m * (1.0 - e)}})
         values.push_back({{"when", when},
                           {"breakup", breakup},
                           {"apsis", apsis},
@@ -49,17 +51,25 @@ nlohmann::json gabbard_figure(const std::vector<v1::Fragment>& fragments,
     }
   }
   if (plotted == 0) return nullptr;
-  nlohmann::json out = spec("Gabbard diagram of breakup fragments",
-                            std::to_string(plotted) + " fragment states plotted" +
-                                (left_out ? ", " + std::to_string(left_out) + " left out by even subsampling" : ""));
+  nlohmann::json out =
+      spec("Gabbard diagram of breakup fragments",
+           std::to_string(plotted) + " fragment states plotted" +
+               (left_out ? ", " + std::to_string(left_out) + " left out by even subsampling" : ""));
   out["data"] = {{"values", values}};
-  out["facet"] = {{"column", {{"field", "when"}, {"type", "nominal"}, {"title", "epoch"}, {"sort", nullptr}}}};
-  out["spec"] = {{"mark", {{"type", "point"}, {"size", 8}, {"filled", true}}},
-                 {"encoding",
-                  {{"x", {{"field", "period_min"}, {"type", "quantitative"}, {"scale", {{"zero", false}}}, {"title", "period [min]"}}},
-                   {"y", {{"field", "altitude_km"}, {"type", "quantitative"}, {"title", "apogee and perigee altitude [km]"}}},
-                   {"shape", {{"field", "apsis"}, {"type", "nominal"}, {"title", ""}}},
-                   {"color", {{"field", "breakup"}, {"type", "nominal"}, {"title", ""}}}}}};
+  out["facet"] = {
+      {"column", {{"field", "when"}, {"type", "nominal"}, {"title", "epoch"}, {"sort", nullptr}}}};
+  out["spec"] = {
+      {"mark", {{"type", "point"}, {"size", 8}, {"filled", true}}},
+      {"encoding",
+       {{"x",
+         {{"field", "period_min"},
+          {"type", "quantitative"},
+          {"scale", {{"zero", false}}},
+          {"title", "period [min]"}}},
+        {"y",
+         {{"field", "altitude_km"}, {"type", "quantitative"}, {"title", "apogee and perigee altitude [km]"}}},
+        {"shape", {{"field", "apsis"}, {"type", "nominal"}, {"title", ""}}},
+        {"color", {{"field", "breakup"}, {"type", "nominal"}, {"title", ""}}}}}};
   return out;
 }
 

@@ -41,10 +41,13 @@ nlohmann::json population_distributions_figure(const PopulationSnapshot& s) {
                             std::to_string(s.size()) + " objects by status (step " + std::to_string(s.step) +
                                 "); values outside the axes are counted in the outermost bins");
   out["hconcat"] = {
-      histogram_panel(s, [&](std::size_t i) { return s.mass_kg[i]; }, log_bins(-3, 5, 4), "mass [kg]", true),
-      histogram_panel(s, [&](std::size_t i) { return s.radius_m[i]; }, log_bins(-3, 2, 4), "radius [m]", true),
-      histogram_panel(s, [&](std::size_t i) { return altitude_km(s.semi_major_axis_m[i]); },
-                      linear_bins(0, 2500, 50), "semi-major axis altitude [km]", false)};
+      histogram_panel(
+          s, [&](std::size_t i) { return s.mass_kg[i]; }, log_bins(-3, 5, 4), "mass [kg]", true),
+      histogram_panel(
+          s, [&](std::size_t i) { return s.radius_m[i]; }, log_bins(-3, 2, 4), "radius [m]", true),
+      histogram_panel(
+          s, [&](std::size_t i) { return altitude_km(s.semi_major_axis_m[i]); }, linear_bins(0, 2500, 50),
+          "semi-major axis altitude [km]", false)};
   return out;
 }
 

@@ -39,7 +39,8 @@ std::uint64_t file_bytes(const std::string& path) {
 int run(int argc, char** argv) {
   Args args(argc, argv);
   args.allow_only({"--scenario", "--steps", "--snapshots", "--every-days", "--dir"});
-  const std::string path = args.get("--scenario", std::string(KESSLER_DATASETS_DIR) + "/../scenarios/paper.yaml");
+  const std::string path =
+      args.get("--scenario", std::string(KESSLER_DATASETS_DIR) + "/../scenarios/paper.yaml");
   const std::int64_t steps = args.get_int("--steps", 100);
   const std::int64_t count = args.get_int("--snapshots", 100);
   const double every_days = args.get_double("--every-days", 10.0);
@@ -85,7 +86,8 @@ int run(int argc, char** argv) {
     std::ofstream file(flat, std::ios::binary);
     for (std::int64_t k = 0; k < count; ++k) {
       double t = process_cpu_s();
-      auto snapshot = std::make_shared<const PopulationSnapshot>(take_snapshot(sim->population(), k * 86400, 0.0));
+      auto snapshot =
+          std::make_shared<const PopulationSnapshot>(take_snapshot(sim->population(), k * 86400, 0.0));
       take_cpu += process_cpu_s() - t;
       raw_bytes = snapshot->size() * (8 + 2 + 4 * 8);
       t = process_cpu_s();
@@ -111,10 +113,11 @@ int run(int argc, char** argv) {
   std::printf("%lld objects; run %.3f s CPU per step, %.1f s between snapshots (every %g d)\n",
               static_cast<long long>(sim->population().size()), run_cpu_per_step, run_cpu_between_snapshots,
               every_days);
-  std::printf("per snapshot: take %.2f ms, encode %.2f ms, store (writer, encode included) %.2f ms, "
-              "flat file append %.3f ms; %.0f kB raw, %.0f kB deflated\n",
-              1e3 * take_cpu / n, 1e3 * encode_cpu / n, 1e3 * writer_cpu / n, 1e3 * file_cpu / n,
-              static_cast<double>(raw_bytes) / 1e3, static_cast<double>(blob_bytes) / 1e3);
+  std::printf(
+      "per snapshot: take %.2f ms, encode %.2f ms, store (writer, encode included) %.2f ms, "
+      "flat file append %.3f ms; %.0f kB raw, %.0f kB deflated\n",
+      1e3 * take_cpu / n, 1e3 * encode_cpu / n, 1e3 * writer_cpu / n, 1e3 * file_cpu / n,
+      static_cast<double>(raw_bytes) / 1e3, static_cast<double>(blob_bytes) / 1e3);
   JsonLine()
       .add("benchmark", std::string("snapshot"))
       .add("scenario", path)
@@ -129,7 +132,8 @@ int run(int argc, char** argv) {
       .add("raw_bytes_per_snapshot", static_cast<std::int64_t>(raw_bytes))
       .add("blob_bytes_per_snapshot", static_cast<std::int64_t>(blob_bytes))
       .add("db_bytes_per_snapshot", static_cast<std::int64_t>(db_bytes / static_cast<std::uint64_t>(count)))
-      .add("flat_file_bytes_per_snapshot", static_cast<std::int64_t>(flat_bytes / static_cast<std::uint64_t>(count)))
+      .add("flat_file_bytes_per_snapshot",
+           static_cast<std::int64_t>(flat_bytes / static_cast<std::uint64_t>(count)))
       .add("series_20y_snapshots", static_cast<std::int64_t>(series_20y))
       .add("series_20y_db_mb", series_20y * static_cast<double>(db_bytes) / n / 1e6)
       .add("cpu_share_of_run", per_snapshot_cpu / run_cpu_between_snapshots)

@@ -152,7 +152,8 @@ TEST_F(SnapshotEndToEnd, GetsTheLastSnapshotAtOrBeforeAStepTimeOrEpoch) {
   for (const auto& o : r.objects()) {
     EXPECT_GT(o.perigee_altitude_km(), 100.0) << o.id();
     EXPECT_LE(o.perigee_altitude_km(), o.apogee_altitude_km() + 1e-9);
-    EXPECT_NEAR(o.semi_major_axis_km() - 6378.137, 0.5 * (o.perigee_altitude_km() + o.apogee_altitude_km()), 1e-6);
+    EXPECT_NEAR(o.semi_major_axis_km() - 6378.137, 0.5 * (o.perigee_altitude_km() + o.apogee_altitude_km()),
+                1e-6);
   }
 }
 
@@ -286,7 +287,7 @@ TEST_F(SnapshotEndToEnd, TheFiguresNumbersAgreeWithTheStore) {
   std::uint64_t fragments_last = 0;
   for (ObjectId o : last.id) fragments_last += o >= kFirstFragmentId;
   ASSERT_GT(fragments_last, 0u);
-  EXPECT_EQ(points.size(), 4u);  // the snapshots at steps 18, 27, 36, 43
+  EXPECT_EQ(points.size(), 4u);                         // the snapshots at steps 18, 27, 36, 43
   EXPECT_EQ(points["t = 0.12 h"], 2 * fragments_last);  // 430 s
 }
 
@@ -312,7 +313,8 @@ TEST_F(SnapshotEndToEnd, TheCliPrintsCsvAndJsonAndRefusesAnUnknownKind) {
   std::uint64_t rows = 0;
   while (std::getline(lines, line)) rows += !line.empty();
   EXPECT_EQ(rows, shared_->run.summary().objects_final());
-  auto json = cli(shared_->dir, "snapshot " + run_id() + " --at 2022-03-01T00:01:40Z --kind fragment --output json" + server);
+  auto json = cli(shared_->dir, "snapshot " + run_id() +
+                                    " --at 2022-03-01T00:01:40Z --kind fragment --output json" + server);
   ASSERT_EQ(json.exit_code, 0) << json.err;
   EXPECT_NE(json.out.find("\"step\":9,"), std::string::npos) << json.out.substr(0, 200);
   EXPECT_NE(json.out.find("\"kind\":\"fragment\""), std::string::npos);

@@ -75,7 +75,8 @@ TEST(SnapshotStore, KeepsOnePerStepListsInPagesAndReadsAtOrBefore) {
   v1::Scenario scenario;
   const std::int64_t run = store.create_run(scenario, 1, 0.0);
   for (std::int64_t step : {0, 100, 200, 300})
-    store.append_snapshot(run, std::make_shared<const PopulationSnapshot>(random_snapshot(300, step, step + 1)));
+    store.append_snapshot(run,
+                          std::make_shared<const PopulationSnapshot>(random_snapshot(300, step, step + 1)));
   // A resumed run hands step 200 over again (other contents here, to see which copy stays).
   store.append_snapshot(run, std::make_shared<const PopulationSnapshot>(random_snapshot(10, 200, 99)));
   store.flush();

@@ -23,7 +23,9 @@ struct SnapshotSink : RecordingSink {
   std::vector<std::shared_ptr<const PopulationSnapshot>> snapshots;
   std::int64_t cancel_after_step = -1;
   RunControl* control = nullptr;
-  void on_snapshot(std::shared_ptr<const PopulationSnapshot> s) override { snapshots.push_back(std::move(s)); }
+  void on_snapshot(std::shared_ptr<const PopulationSnapshot> s) override {
+    snapshots.push_back(std::move(s));
+  }
   void on_progress(std::uint64_t seq, const Progress& p) override {
     RecordingSink::on_progress(seq, p);
     if (p.step == cancel_after_step) control->cancel = true;
@@ -83,7 +85,8 @@ TEST(Snapshots, TakenAtTheStartEveryIntervalAndTheLastStepWithoutChangingTheRun)
   EXPECT_EQ(ra.events_digest, rb.events_digest);
   EXPECT_EQ(ra.state_digest, rb.state_digest);
   ASSERT_EQ(a.checkpoints.size(), b.checkpoints.size());
-  for (std::size_t i = 0; i < a.checkpoints.size(); ++i) EXPECT_EQ(a.checkpoints[i].bytes, b.checkpoints[i].bytes);
+  for (std::size_t i = 0; i < a.checkpoints.size(); ++i)
+    EXPECT_EQ(a.checkpoints[i].bytes, b.checkpoints[i].bytes);
   EXPECT_TRUE(a.snapshots.empty());
   std::vector<std::int64_t> steps;
   for (const auto& s : b.snapshots) steps.push_back(s->step);
@@ -94,8 +97,8 @@ TEST(Snapshots, TakenAtTheStartEveryIntervalAndTheLastStepWithoutChangingTheRun)
   ASSERT_EQ(last.id, p.id);
   EXPECT_EQ(last.sim_time_s, 2450.0);
   for (std::size_t i = 0; i < p.size(); ++i) {
-    const OsculatingElements el =
-        osculating_elements(p.state.x[i], p.state.y[i], p.state.z[i], p.state.vx[i], p.state.vy[i], p.state.vz[i]);
+    const OsculatingElements el = osculating_elements(p.state.x[i], p.state.y[i], p.state.z[i], p.state.vx[i],
+                                                      p.state.vy[i], p.state.vz[i]);
     EXPECT_EQ(last.semi_major_axis_m[i], static_cast<float>(el.semi_major_axis_m));
     EXPECT_EQ(last.inclination_rad[i], static_cast<float>(el.inclination_rad));
     EXPECT_EQ(last.radius_m[i], static_cast<float>(p.radius_m[i]));
