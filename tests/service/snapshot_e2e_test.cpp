@@ -317,7 +317,8 @@ TEST_F(SnapshotEndToEnd, TheCliPrintsCsvAndJsonAndRefusesAnUnknownKind) {
                                     " --at 2022-03-01T00:01:40Z --kind fragment --output json" + server);
   ASSERT_EQ(json.exit_code, 0) << json.err;
   EXPECT_NE(json.out.find("\"step\":9,"), std::string::npos) << json.out.substr(0, 200);
-  EXPECT_NE(json.out.find("\"kind\":\"fragment\""), std::string::npos);
+  EXPECT_NE(json.out.find("\"kind\": \"fragment\""), std::string::npos) << json.out.substr(0, 300);
+  EXPECT_EQ(json.out.find("\"kind\": \"payload\""), std::string::npos);
   auto list = cli(shared_->dir, "snapshot " + run_id() + " --list" + server);
   ASSERT_EQ(list.exit_code, 0) << list.err;
   EXPECT_NE(list.out.find("\n43,430,2022-03-01T00:07:10.000Z,"), std::string::npos) << list.out;

@@ -7,6 +7,7 @@
 
 #include <random>
 
+#include "core/simulation/breakups.hpp"
 #include "server/snapshot_codec.hpp"
 #include "server/store.hpp"
 #include "tests/service/temp_dir.hpp"
