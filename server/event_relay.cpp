@@ -84,11 +84,11 @@ void EventRelay::on_checkpoint(std::uint64_t last_seq, std::int64_t step, const 
   push(std::move(item));
 }
 
-void EventRelay::on_snapshot(std::shared_ptr<const PopulationSnapshot> snapshot) {
+void EventRelay::on_snapshot(const std::shared_ptr<const PopulationSnapshot>& snapshot) {
   Item item;
   item.kind = Item::Kind::kSnapshot;
   item.step = snapshot->step;
-  item.snapshot = std::move(snapshot);
+  item.snapshot = snapshot;
   push(std::move(item));
 }
 

@@ -52,7 +52,7 @@ class EventRelay final : public EventSink {
   void on_lifecycle(std::uint64_t seq, const LifecycleReport& event) override;
   void on_checkpoint(std::uint64_t last_seq, std::int64_t step, const std::string& bytes) override;
   // Handed to the store in order with the events (the store encodes it on its writer thread).
-  void on_snapshot(std::shared_ptr<const PopulationSnapshot> snapshot) override;
+  void on_snapshot(const std::shared_ptr<const PopulationSnapshot>& snapshot) override;
   void on_finished(const RunSummary&) override {}
   void on_failed(const std::string& reason) override;
 

@@ -108,7 +108,7 @@ class EventSink {
   // The population at a boundary (SimulationConfig::snapshot_every_steps), after that boundary's
   // events and progress. No sequence number and not in the events digest (snapshots.hpp); a resumed
   // run hands over again the snapshots after its checkpoint's step, so store them by step.
-  virtual void on_snapshot(std::shared_ptr<const PopulationSnapshot> /*snapshot*/) {}
+  virtual void on_snapshot(const std::shared_ptr<const PopulationSnapshot>& /*snapshot*/) {}
   // A checkpoint, complete and self-contained: every event with a sequence number <= last_seq was
   // handed over before it. Store it atomically; a run resumes from these bytes.
   virtual void on_checkpoint(std::uint64_t last_seq, std::int64_t step, const std::string& bytes) = 0;

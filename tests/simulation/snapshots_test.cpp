@@ -23,9 +23,7 @@ struct SnapshotSink : RecordingSink {
   std::vector<std::shared_ptr<const PopulationSnapshot>> snapshots;
   std::int64_t cancel_after_step = -1;
   RunControl* control = nullptr;
-  void on_snapshot(std::shared_ptr<const PopulationSnapshot> s) override {
-    snapshots.push_back(std::move(s));
-  }
+  void on_snapshot(const std::shared_ptr<const PopulationSnapshot>& s) override { snapshots.push_back(s); }
   void on_progress(std::uint64_t seq, const Progress& p) override {
     RecordingSink::on_progress(seq, p);
     if (p.step == cancel_after_step) control->cancel = true;
