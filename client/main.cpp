@@ -20,6 +20,7 @@ CommandRun setup_runs(CLI::App& command, GlobalOptions& global);
 CommandRun setup_show(CLI::App& command, GlobalOptions& global);
 CommandRun setup_conjunctions(CLI::App& command, GlobalOptions& global);
 CommandRun setup_fragments(CLI::App& command, GlobalOptions& global);
+CommandRun setup_snapshot(CLI::App& command, GlobalOptions& global);
 CommandRun setup_cancel(CLI::App& command, GlobalOptions& global);
 CommandRun setup_delete(CLI::App& command, GlobalOptions& global);
 CommandRun setup_health(CLI::App& command, GlobalOptions& global);
@@ -42,6 +43,8 @@ const CommandSpec kCommands[] = {
      "a run's conjunctions, filtered (kappa, object, time, collisions, closest per pair, Pc), or CDMs",
      setup_conjunctions},
     {"fragments", "the fragments a run's breakups made (parent, Lc, A/m, mass, dv)", setup_fragments},
+    {"snapshot", "a run's population at a snapshot: kinds, sizes, osculating elements (csv, json)",
+     setup_snapshot},
     {"cancel", "cancel a queued or running run", setup_cancel},
     {"delete", "delete an ended run and everything stored for it", setup_delete},
     {"ensemble", "Monte Carlo ensembles (submit --members N): show (aggregates), list, cancel",

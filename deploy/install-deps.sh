@@ -14,6 +14,7 @@ packages=(
   nlohmann-json3-dev libcpp-httplib-dev
   chromium chromium-driver
   clang-14 libfuzzer-14-dev
+  nlohmann-json3-dev
 )
 # The web assets' installer; a node from elsewhere (e.g. NodeSource's, which brings its own npm) will do.
 command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)

@@ -195,6 +195,21 @@ class Service final : public v1::KesslerService::Service {
       *out = m_.fragments(*r);
     });
   }
+  grpc::Status ListSnapshots(grpc::ServerContext* c, const v1::ListSnapshotsRequest* r,
+                             v1::ListSnapshotsResponse* out) override {
+    return guard_(c, Role::kRead, [&](const Caller& who) {
+      check_run_owner(who, r->run_id());
+      *out = m_.list_snapshots(*r);
+    });
+  }
+  grpc::Status GetSnapshot(grpc::ServerContext* c, const v1::GetSnapshotRequest* r,
+                           v1::GetSnapshotResponse* out) override {
+    return guard_(c, Role::kRead, [&](const Caller& who) {
+      check_run_owner(who, r->run_id());
+      guard_.limits().take_request(who);
+      *out = m_.get_snapshot(*r);
+    });
+  }
   grpc::Status SubmitEnsemble(grpc::ServerContext* c, const v1::SubmitEnsembleRequest* r,
                               v1::EnsembleReport* out) override {
     return guard_(c, Role::kSubmit, [&](const Caller& who) {

@@ -84,6 +84,14 @@ void EventRelay::on_checkpoint(std::uint64_t last_seq, std::int64_t step, const 
   push(std::move(item));
 }
 
+void EventRelay::on_snapshot(const std::shared_ptr<const PopulationSnapshot>& snapshot) {
+  Item item;
+  item.kind = Item::Kind::kSnapshot;
+  item.step = snapshot->step;
+  item.snapshot = snapshot;
+  push(std::move(item));
+}
+
 void EventRelay::on_failed(const std::string& reason) {
   std::lock_guard lock(mutex_);
   failure_ = reason;
@@ -164,6 +172,11 @@ void EventRelay::hand_over(std::vector<Item>& items) {
       store_.append_checkpoint(run_id_, item.seq, item.step, std::move(item.checkpoint));
       continue;
     }
+    if (item.kind == Item::Kind::kSnapshot) {
+      publish();
+      store_.append_snapshot(run_id_, std::move(item.snapshot));
+      continue;
+    }
     auto event = std::make_shared<v1::RunEvent>();
     event->set_seq(item.seq);
     event->set_run_id(run_id_);
@@ -195,6 +208,7 @@ void EventRelay::hand_over(std::vector<Item>& items) {
         *event->mutable_lifecycle() = to_proto(item.lifecycle);
         break;
       case Item::Kind::kCheckpoint:
+      case Item::Kind::kSnapshot:
         break;
     }
     events.push_back(std::move(event));

@@ -51,6 +51,8 @@ class EventRelay final : public EventSink {
   void on_breakup(std::uint64_t seq, const BreakupReport& breakup) override;
   void on_lifecycle(std::uint64_t seq, const LifecycleReport& event) override;
   void on_checkpoint(std::uint64_t last_seq, std::int64_t step, const std::string& bytes) override;
+  // Handed to the store in order with the events (the store encodes it on its writer thread).
+  void on_snapshot(const std::shared_ptr<const PopulationSnapshot>& snapshot) override;
   void on_finished(const RunSummary&) override {}
   void on_failed(const std::string& reason) override;
 
@@ -65,7 +67,15 @@ class EventRelay final : public EventSink {
  private:
   // One item as the simulation handed it over (the core's own types: no wire work on its thread).
   struct Item {
-    enum class Kind : std::uint8_t { kEncounter, kBurnUp, kProgress, kBreakup, kLifecycle, kCheckpoint };
+    enum class Kind : std::uint8_t {
+      kEncounter,
+      kBurnUp,
+      kProgress,
+      kBreakup,
+      kLifecycle,
+      kCheckpoint,
+      kSnapshot
+    };
     Kind kind = Kind::kEncounter;
     std::uint64_t seq = 0;  // last_seq for a checkpoint
     Encounter encounter;
@@ -75,6 +85,7 @@ class EventRelay final : public EventSink {
     LifecycleReport lifecycle;
     std::int64_t step = 0;
     std::shared_ptr<const std::string> checkpoint;
+    std::shared_ptr<const PopulationSnapshot> snapshot;
   };
   void push(Item&& item);
   void relay_loop();

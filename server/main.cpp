@@ -239,8 +239,9 @@ int serve(const kessler::server::ManagerOptions& options, kessler::server::ApiOp
     std::unique_ptr<HttpServer> http;
     if (!ports.http_address.empty()) {
       http = std::make_unique<HttpServer>(manager, ports.http_address);
-      std::cout << "kesslerd: dashboard on http://" << ports.http_address.substr(0, ports.http_address.rfind(':'))
-                << ":" << http->port() << "/" << std::endl;
+      std::cout << "kesslerd: dashboard on http://"
+                << ports.http_address.substr(0, ports.http_address.rfind(':')) << ":" << http->port() << "/"
+                << std::endl;
       if (!ports.http_port_file.empty()) write_port_file(ports.http_port_file, http->port());
     }
     if (!ports.port_file.empty()) write_port_file(ports.port_file, api.port());

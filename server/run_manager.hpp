@@ -110,6 +110,15 @@ class RunManager {
   v1::RunStats stats(const v1::GetRunStatsRequest& request);
   v1::ListFragmentsResponse fragments(const v1::ListFragmentsRequest& request);
 
+  // Population snapshots (server/run_snapshots.cpp): the RPCs, and the read path of the figures
+  // (server/figures/): the decoded snapshot at or before a step (the newest when nullopt; nullopt when
+  // the run has none), and the rows of every stored snapshot. NOT_FOUND for an unknown run.
+  v1::ListSnapshotsResponse list_snapshots(const v1::ListSnapshotsRequest& request);
+  v1::GetSnapshotResponse get_snapshot(const v1::GetSnapshotRequest& request);
+  std::optional<PopulationSnapshot> population_snapshot(std::int64_t run_id,
+                                                        std::optional<std::int64_t> step);
+  std::vector<StoredSnapshotInfo> snapshot_steps(std::int64_t run_id);
+
   // Ensembles (server/ensembles.cpp).
   v1::EnsembleReport submit_ensemble(const v1::SubmitEnsembleRequest& request,
                                      const std::string& submitter = "");
@@ -147,6 +156,9 @@ class RunManager {
   v1::EnsembleReport ensemble_head(std::int64_t ensemble_id);
   // The head with its members (no series or scenario).
   v1::EnsembleReport get_ensemble_members(std::int64_t ensemble_id);
+  // The run's start epoch and the step a GetSnapshot request asks for (nullopt: the newest).
+  static UtcEpoch start_epoch(const v1::Run& run);
+  static std::optional<std::int64_t> snapshot_step(const v1::Run& run, const v1::GetSnapshotRequest& r);
   // with_scenario false: without the (possibly large) scenario message.
   v1::Run get(std::int64_t run_id, bool with_scenario);
   void execute(std::int64_t run_id, RunControl& control);

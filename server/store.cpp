@@ -139,6 +139,17 @@ const char* const kMigrations[] = {
     ALTER TABLE ensembles ADD COLUMN request_id TEXT;
     CREATE UNIQUE INDEX ensembles_by_request ON ensembles(submitter, request_id) WHERE request_id IS NOT NULL;
     )sql",
+    // Population snapshots: one compressed blob per run and step (server/snapshot_codec.hpp).
+    R"sql(
+    CREATE TABLE snapshots (
+      run_id INTEGER NOT NULL,
+      step INTEGER NOT NULL,
+      sim_time_s REAL NOT NULL,
+      objects INTEGER NOT NULL,
+      bytes BLOB NOT NULL,
+      PRIMARY KEY (run_id, step)
+    ) WITHOUT ROWID;
+    )sql",
 };
 constexpr int kMigrationCount = sizeof(kMigrations) / sizeof(kMigrations[0]);
 static_assert(kMigrationCount == Store::kSchemaVersion);

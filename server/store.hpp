@@ -22,6 +22,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/simulation/snapshots.hpp"
 #include "kessler/v1/names.hpp"
 #include "kessler/v1/service.pb.h"
 #include "server/store_health.hpp"
@@ -79,6 +80,14 @@ struct EventTimes {
   std::vector<double> breakups_s;
 };
 
+// A stored snapshot's row, without its objects.
+struct StoredSnapshotInfo {
+  std::int64_t step = 0;
+  double sim_time_s = 0.0;
+  std::uint64_t objects = 0;
+  std::uint64_t stored_bytes = 0;
+};
+
 // One page of a query: items and the token of the next page (empty on the last).
 template <typename T>
 struct Page {
@@ -99,7 +108,7 @@ class Store {
   Store(const Store&) = delete;
   Store& operator=(const Store&) = delete;
 
-  static constexpr int kSchemaVersion = 6;
+  static constexpr int kSchemaVersion = 7;
   int schema_version();
 
   // Faults (store_health.hpp). Whether writes pass now; a failed write marks the store unwritable
@@ -205,6 +214,16 @@ class Store {
   Page<v1::Fragment> list_fragments(const v1::ListFragmentsRequest& request);
   // The run's launches, re-entries and breakups (store_event_times.cpp).
   EventTimes event_times(std::int64_t run_id);
+
+  // Population snapshots (store_snapshots.cpp), through the writer thread in order with the events;
+  // encoded there (server/snapshot_codec.hpp) and stored idempotently by (run, step).
+  void append_snapshot(std::int64_t run_id, std::shared_ptr<const PopulationSnapshot> snapshot);
+  // By step; the page token is the last step of the previous page (std::invalid_argument for a bad one).
+  Page<StoredSnapshotInfo> list_snapshots(std::int64_t run_id, int page_size, const std::string& page_token);
+  // The last snapshot at or before `step` (the newest when nullopt), decoded; nullopt when none.
+  std::optional<PopulationSnapshot> read_snapshot(std::int64_t run_id, std::optional<std::int64_t> step);
+  // Its row alone.
+  std::optional<StoredSnapshotInfo> snapshot_info(std::int64_t run_id, std::optional<std::int64_t> step);
 
   // Rows written by the writer thread since the store opened (events), for the benchmark.
   std::uint64_t events_written() const;

@@ -95,6 +95,10 @@ extern const char* const kFragmentInsertSql;
 void write_breakup_rows(Statement& breakup_insert, Statement& fragment_insert, const v1::RunEvent& event,
                         const std::vector<StoredFragment>& fragments);
 
+// A snapshot's row (store_snapshots.cpp), encoded, in the writer's transaction.
+extern const char* const kSnapshotInsertSql;
+void write_snapshot_row(Statement& snapshot_insert, std::int64_t run_id, const PopulationSnapshot& snapshot);
+
 // A lifecycle event's row (store_breakups.cpp), in the writer's transaction.
 extern const char* const kLifecycleInsertSql;
 void write_lifecycle_row(Statement& lifecycle_insert, const v1::RunEvent& event);
@@ -135,6 +139,7 @@ struct Store::Pending {
   std::int64_t step = 0;
   std::shared_ptr<const std::string> checkpoint;
   std::shared_ptr<const std::vector<StoredFragment>> fragments;  // a breakup event's
+  std::shared_ptr<const PopulationSnapshot> snapshot;            // or a snapshot (with run_id)
   bool is_checkpoint = false;
   bool discard = false;  // a checkpoint item that drops the run's waiting checkpoint
 };

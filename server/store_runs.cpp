@@ -274,7 +274,7 @@ bool Store::delete_run(std::int64_t run_id) {
          {"DELETE FROM events WHERE run_id = ?", "DELETE FROM checkpoints WHERE run_id = ?",
           "DELETE FROM object_names WHERE run_id = ?", "DELETE FROM breakups WHERE run_id = ?",
           "DELETE FROM fragments WHERE run_id = ?", "DELETE FROM lifecycle_events WHERE run_id = ?",
-          "DELETE FROM runs WHERE id = ?"}) {
+          "DELETE FROM snapshots WHERE run_id = ?", "DELETE FROM runs WHERE id = ?"}) {
       Statement s(lease.db(), sql);
       s.bind(1, run_id);
       s.run();

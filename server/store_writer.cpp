@@ -119,12 +119,14 @@ struct Store::WriterStatements {
                           "checkpoints.step"),
         breakup_insert(db, kBreakupInsertSql),
         fragment_insert(db, kFragmentInsertSql),
-        lifecycle_insert(db, kLifecycleInsertSql) {}
+        lifecycle_insert(db, kLifecycleInsertSql),
+        snapshot_insert(db, kSnapshotInsertSql) {}
   Statement event_insert;
   Statement checkpoint_upsert;
   Statement breakup_insert;
   Statement fragment_insert;
   Statement lifecycle_insert;
+  Statement snapshot_insert;
 };
 
 void Store::writer_loop() {
@@ -260,6 +262,10 @@ void Store::write_batch(std::vector<Pending>& batch, WriterStatements& statement
     if (p.is_checkpoint) {
       checkpoint_upsert.bind(1, p.run_id).bind(2, p.last_seq).bind(3, p.step).bind_blob(4, *p.checkpoint);
       checkpoint_upsert.run();
+      continue;
+    }
+    if (p.snapshot) {
+      write_snapshot_row(statements.snapshot_insert, p.run_id, *p.snapshot);
       continue;
     }
     const v1::RunEvent& e = *p.event;

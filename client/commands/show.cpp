@@ -1,12 +1,13 @@
 // kessler show RUN: a run's scenario, ingest report, state, times, phase timers, conjunction counts by
 // kappa over time, the traffic's launches, ends of life and disposals, objects alive by type over time
-// and its summary.
+// the population's key numbers at its first and newest snapshots, and its summary.
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <memory>
 
 #include "client/command.hpp"
+#include "client/commands/show_population.hpp"
 #include "client/remote/cli_support.hpp"
 #include "client/remote/remote_client.hpp"
 #include "client/render.hpp"
@@ -144,6 +145,7 @@ int show(const ShowOptions& o, const GlobalOptions& global) {
   if (run.has_summary()) print_timers(run.summary().timers());
   print_kappa_bins(run, stats);
   print_alive(run, stats);
+  print_population(client, o.run_id);
   std::cout << summary_text(run);
   return kExitOk;
 }
@@ -166,7 +168,8 @@ CommandRun setup_show(CLI::App& command, GlobalOptions& global) {
                      "object (the same keys as 'run --local') last");
   command.footer(
       "Shows a run: its scenario, the ingest report of its catalog, state, times, phase timers, conjunction "
-      "counts by kappa over time, launches, ends of life and disposals (runs with traffic) and its summary."
+      "counts by kappa over time, launches, ends of life and disposals (runs with traffic), the population "
+      "at its first and newest snapshots (objects by kind and status, median sizes, the spatial density's peak) and its summary."
       "\n\n"
       "example:\n  kessler show 1 --kappas 0.5,1,10");
   return [o, &global] { return show(*o, global); };

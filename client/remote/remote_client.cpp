@@ -248,6 +248,14 @@ CallResult RemoteClient::fragments(const v1::ListFragmentsRequest& request, v1::
   return unary(*impl_->stub, &v1::KesslerService::Stub::ListFragments, request, out);
 }
 
+CallResult RemoteClient::snapshots(const v1::ListSnapshotsRequest& request, v1::ListSnapshotsResponse& out) {
+  return unary(*impl_->stub, &v1::KesslerService::Stub::ListSnapshots, request, out);
+}
+
+CallResult RemoteClient::snapshot(const v1::GetSnapshotRequest& request, v1::GetSnapshotResponse& out) {
+  return unary(*impl_->stub, &v1::KesslerService::Stub::GetSnapshot, request, out);
+}
+
 CallResult RemoteClient::health(const std::string& service, double timeout_s, std::string& status) {
   // The health proto's stubs are not part of the build: its two one-field messages are written and
   // read here on the wire (HealthCheckRequest.service = 1, HealthCheckResponse.status = 1).

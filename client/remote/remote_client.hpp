@@ -61,6 +61,8 @@ class RemoteClient {
   CallResult conjunction_cdm(const v1::GetConjunctionCdmRequest& request, v1::ConjunctionCdm& out);
   CallResult stats(const v1::GetRunStatsRequest& request, v1::RunStats& out);
   CallResult fragments(const v1::ListFragmentsRequest& request, v1::ListFragmentsResponse& out);
+  CallResult snapshots(const v1::ListSnapshotsRequest& request, v1::ListSnapshotsResponse& out);
+  CallResult snapshot(const v1::GetSnapshotRequest& request, v1::GetSnapshotResponse& out);
   CallResult submit_ensemble(const v1::SubmitEnsembleRequest& request, v1::EnsembleReport& out);
   CallResult get_ensemble(const v1::GetEnsembleRequest& request, v1::EnsembleReport& out);
   CallResult list_ensembles(const v1::ListEnsemblesRequest& request, v1::ListEnsemblesResponse& out);

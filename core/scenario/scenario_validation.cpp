@@ -243,6 +243,9 @@ std::optional<FieldError> validate_scenario(const v1::Scenario& s) {
   if (auto e = non_negative(s.checkpoints().has_every_wall_s(), s.checkpoints().every_wall_s(),
                             "checkpoints.every_wall_s"))
     return e;
+  if (auto e =
+          non_negative(s.snapshots().has_every_days(), s.snapshots().every_days(), "snapshots.every_days"))
+    return e;
   const auto& c = s.conjunctions();
   if (c.has_kappa_max() && !(c.kappa_max() > 0.0 && c.kappa_max() <= 10.0))
     return FieldError{"conjunctions.kappa_max", "must be in (0, 10], got " + number(c.kappa_max())};
@@ -310,6 +313,8 @@ SimulationConfig to_simulation_config(const v1::Scenario& s, int threads) {
   c.checkpoint_every_wall_s =
       s.checkpoints().has_every_wall_s() ? s.checkpoints().every_wall_s() : d::kCheckpointEveryWallS;
   c.progress_every_steps = s.has_progress_every_steps() ? s.progress_every_steps() : 0;
+  c.snapshot_every_steps = snapshot_interval_steps(
+      s.snapshots().has_every_days() ? s.snapshots().every_days() * 86400.0 : -1.0, c.dt_s, total);
   c.seed = s.has_seed() ? s.seed() : d::kSeed;
   c.threads = threads;
   c.breakups = breakup_settings_of(s.breakups(), c.start_epoch);

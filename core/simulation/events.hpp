@@ -10,6 +10,7 @@
 
 #include <concepts>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -18,6 +19,7 @@
 #include "core/integration/burn_up.hpp"
 #include "core/population/population.hpp"
 #include "core/simulation/breakups.hpp"
+#include "core/simulation/snapshots.hpp"
 #include "core/simulation/traffic.hpp"
 
 namespace kessler {
@@ -103,6 +105,10 @@ class EventSink {
   virtual void on_breakup(std::uint64_t /*seq*/, const BreakupReport& /*breakup*/) {}
   // A launch, end of life or disposal (SimulationConfig::traffic); only runs with traffic have them.
   virtual void on_lifecycle(std::uint64_t /*seq*/, const LifecycleReport& /*event*/) {}
+  // The population at a boundary (SimulationConfig::snapshot_every_steps), after that boundary's
+  // events and progress. No sequence number and not in the events digest (snapshots.hpp); a resumed
+  // run hands over again the snapshots after its checkpoint's step, so store them by step.
+  virtual void on_snapshot(const std::shared_ptr<const PopulationSnapshot>& /*snapshot*/) {}
   // A checkpoint, complete and self-contained: every event with a sequence number <= last_seq was
   // handed over before it. Store it atomically; a run resumes from these bytes.
   virtual void on_checkpoint(std::uint64_t last_seq, std::int64_t step, const std::string& bytes) = 0;

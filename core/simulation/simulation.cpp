@@ -359,6 +359,7 @@ struct Simulation::RunLoop {
   void emit_breakup(const BreakupReport& report);
   void run_traffic();
   void emit_progress(double t1_s);
+  void emit_snapshot();
   RunSummary finish();
 
   double wall_now() const { return s.wall_before_s + seconds_since(run_start); }
@@ -418,6 +419,7 @@ RunSummary Simulation::RunLoop::run() {
     s.actives_adopted = true;
   }
   try {
+    if (s.step == 0) emit_snapshot();
     for (;;) {
       const Boundary boundary = at_boundary();
       if (boundary == Boundary::kEnd) break;
@@ -484,6 +486,10 @@ std::size_t Simulation::RunLoop::propagate_batch() {
       std::min(s.total_steps, s.step + (flight ? static_cast<std::int64_t>(flight->capacity()) : 1));
   if (cfg.checkpoint_every_steps > 0)
     batch_end = std::min(batch_end, (s.step / cfg.checkpoint_every_steps + 1) * cfg.checkpoint_every_steps);
+  // A snapshot needs the population at its boundary: the batch ends there (results never depend on
+  // where batches end).
+  if (cfg.snapshot_every_steps > 0)
+    batch_end = std::min(batch_end, (s.step / cfg.snapshot_every_steps + 1) * cfg.snapshot_every_steps);
   // A breakup changes the population at its boundary, and so does the end of a separation (pairs are
   // screened from then on): the batch ends there. Where collisions fragment, any step may end with a
   // breakup: the batch is cut after such a step (cut_at_collision).
@@ -573,6 +579,9 @@ void Simulation::RunLoop::emit_batch(std::size_t steps) {
     ++s.step;
     if (s.step % progress_every == 0 || s.step == s.total_steps) emit_progress(t1_s);
   }
+  // Batches end at snapshot steps, so the population is at s.step here.
+  if (cfg.snapshot_every_steps > 0 && (s.step % cfg.snapshot_every_steps == 0 || s.step == s.total_steps))
+    emit_snapshot();
   timers.output_s += seconds_since(t);
 }
 
@@ -676,6 +685,13 @@ void Simulation::RunLoop::emit_progress(double t1_s) {
   const std::uint64_t seq = s.next_seq++;
   hash_progress(s.events_hash, seq, p);
   sink.on_progress(seq, p);
+}
+
+// The population now (after s.step steps), when snapshots are on.
+void Simulation::RunLoop::emit_snapshot() {
+  if (cfg.snapshot_every_steps <= 0) return;
+  sink.on_snapshot(std::make_shared<const PopulationSnapshot>(
+      take_snapshot(s.population, s.step, static_cast<double>(s.step) * cfg.dt_s)));
 }
 
 // The summary, handed to the sink unless the run stopped at a checkpoint (it goes on later).

@@ -32,6 +32,9 @@ struct SimulationConfig {
   std::int64_t checkpoint_every_steps = 0;  // 0: off
   double checkpoint_every_wall_s = 0.0;     // 0: off
   std::int64_t progress_every_steps = 0;    // 0: about 200 per run
+  // A population snapshot (snapshots.hpp) at the start, every this many steps and at the last step;
+  // 0: none. Never changes an event, a digest or a checkpoint's key.
+  std::int64_t snapshot_every_steps = 0;
   std::uint64_t seed = 1;
   int threads = 0;  // 0: OpenMP's default
   // Steps whose conjunction scans run side by side, each on one thread (steps_in_flight.hpp); 0: one

@@ -1,6 +1,7 @@
 // The figure registry and the subject loaders; RunManager::figures (the GetFigures RPC) lives here
 // too, so the run manager's file stays about runs.
 #include "server/figures/figures.hpp"
+#include "server/figures/snapshot_figures.hpp"
 
 #include <set>
 
@@ -83,7 +84,29 @@ FigureSubject load_ensemble_subject(RunManager& manager, std::int64_t ensemble_i
 
 std::vector<Figure> figures_for_run(RunManager& manager, std::int64_t run_id,
                                     const std::vector<std::int64_t>& compare) {
-  return figures_for(load_run_subject(manager, run_id, compare));
+  const FigureSubject subject = load_run_subject(manager, run_id, compare);
+  std::vector<Figure> out = figures_for(subject);
+  // The run's own snapshot- and conjunction-based figures (snapshot_figures.hpp), after the others.
+  const nlohmann::json from_snapshots = run_figures(manager, run_id);
+  const std::pair<const char*, const char*> kSnapshotFigures[] = {
+      {"population_distributions", "population-distributions"},
+      {"conjunction_sizes", "conjunction-sizes"},
+      {"conjunction_orbits", "conjunction-orbits"},
+      {"spatial_density", "spatial-density"},
+      {"gabbard", "gabbard"}};
+  for (const auto& [key, id] : kSnapshotFigures) {
+    const nlohmann::json& spec = from_snapshots.at(key);
+    if (spec.is_null()) continue;
+    std::string title = id;
+    if (spec.contains("title")) {
+      const nlohmann::json& t = spec.at("title");
+      if (t.is_string()) title = t.get<std::string>();
+      if (t.is_object() && t.contains("text") && t.at("text").is_string())
+        title = t.at("text").get<std::string>();
+    }
+    out.push_back(Figure{id, title, spec, subject.partial});
+  }
+  return out;
 }
 
 std::vector<Figure> figures_for_ensemble(RunManager& manager, std::int64_t ensemble_id) {

@@ -55,7 +55,7 @@ seed: 42
      "propagator, "
      "integrator, force_model, population, conjunctions, burn_up_altitude_km, checkpoints, "
      "progress_every_steps, "
-     "seed, breakups, traffic, ensemble)"},
+     "seed, breakups, traffic, ensemble, snapshots)"},
     {"unknown nested key", "population: {dataset: leo-19647}\nconjunctions: {kappa: 3}",
      "conjunctions.kappa: unknown key (known keys here: enabled, narrow_phase, kappa_max, "
      "screening_distance_km, "
@@ -131,6 +131,8 @@ seed: 42
      "progress_every_steps: must be at least 1"},
     {"checkpoint wall", "checkpoints: {every_wall_s: -1}\npopulation: {dataset: leo-19647}",
      "checkpoints.every_wall_s: must not be negative, got -1"},
+    {"snapshots", "snapshots: {every_days: -1}\npopulation: {dataset: leo-19647}",
+     "snapshots.every_days: must not be negative, got -1"},
     {"max objects", "population: {dataset: leo-19647, max_objects: 0}",
      "population.max_objects: must be at least 1 (leave it out for all objects)"},
 };

@@ -254,7 +254,7 @@ TEST_F(Reflection, TheApiRebuiltFromReflectedDescriptorsAnswersCalls) {
   EXPECT_EQ(methods, (std::set<std::string>{"SubmitRun", "GetRun", "ListRuns", "CancelRun", "DeleteRun",
                                             "WatchRun", "ListConjunctions", "GetConjunctionCdm", "GetRunStats",
                                             "ListFragments", "SubmitEnsemble", "GetEnsemble", "ListEnsembles",
-                                            "CancelEnsemble", "GetFigures"}));
+                                            "CancelEnsemble", "GetFigures", "ListSnapshots", "GetSnapshot"}));
   const auto* watch = service->FindMethodByName("WatchRun");
   ASSERT_NE(watch, nullptr);
   EXPECT_TRUE(watch->server_streaming());
