@@ -77,6 +77,9 @@ class EventLimitSink final : public EventSink {
   void on_lifecycle(std::uint64_t seq, const LifecycleReport& l) override {
     if (admit(seq)) inner_.on_lifecycle(seq, l);
   }
+  void on_snapshot(const std::shared_ptr<const PopulationSnapshot>& snapshot) override {
+    if (!exceeded()) inner_.on_snapshot(snapshot);
+  }
   void on_checkpoint(std::uint64_t last_seq, std::int64_t step, const std::string& bytes) override {
     if (!exceeded()) inner_.on_checkpoint(last_seq, step, bytes);
   }

@@ -142,6 +142,9 @@ struct Store::Pending {
   std::shared_ptr<const PopulationSnapshot> snapshot;            // or a snapshot (with run_id)
   bool is_checkpoint = false;
   bool discard = false;  // a checkpoint item that drops the run's waiting checkpoint
+
+  // The run the item belongs to, whatever its kind.
+  std::int64_t run() const { return event ? event->run_id() : run_id; }
 };
 
 class Store::Lease {

@@ -208,7 +208,7 @@ void Store::writer_loop() {
     // A run whose events could not be written gets nothing more written (its later checkpoints would
     // skip the lost events): it fails, or resumes from a checkpoint taken before them.
     done += static_cast<std::uint64_t>(std::erase_if(to_write, [&](const Pending& p) {
-      return failed_runs.count(p.is_checkpoint ? p.run_id : p.event->run_id()) > 0;
+      return failed_runs.count(p.run()) > 0;
     }));
     if (!to_write.empty()) {
       // A failed batch (disk full, read-only, I/O error, a table gone) is rolled back and its runs
@@ -219,11 +219,11 @@ void Store::writer_loop() {
       } catch (const StoreError& e) {
         for (Statement* st :
              {&statements.event_insert, &statements.checkpoint_upsert, &statements.breakup_insert,
-              &statements.fragment_insert, &statements.lifecycle_insert})
+              &statements.fragment_insert, &statements.lifecycle_insert, &statements.snapshot_insert})
           st->reset();
         sqlite3_exec(writer_db_, "ROLLBACK", nullptr, nullptr, nullptr);
         health_.record_failure(e.what());
-        for (const Pending& p : to_write) failed_runs.insert(p.is_checkpoint ? p.run_id : p.event->run_id());
+        for (const Pending& p : to_write) failed_runs.insert(p.run());
         report_write_failure(to_write, e.what());
       }
     }
@@ -240,7 +240,7 @@ void Store::writer_loop() {
 
 void Store::report_write_failure(const std::vector<Pending>& batch, const std::string& error) {
   std::set<std::int64_t> runs;
-  for (const Pending& p : batch) runs.insert(p.is_checkpoint ? p.run_id : p.event->run_id());
+  for (const Pending& p : batch) runs.insert(p.run());
   std::function<void(std::int64_t, const std::string&)> handler;
   {
     std::lock_guard lock(handler_mutex_);

@@ -56,7 +56,7 @@ std::vector<Finding> findings() {
     v1::Scenario s = base_message();
     s.mutable_population()->mutable_synthetic()->set_max_altitude_km(std::numeric_limits<double>::infinity());
     message("max_altitude_km inf (failed at run start)", s, "population.synthetic.max_altitude_km",
-            "at most 40000");
+            "must be a finite number");  // refused with every non-finite number of a request
   }
   {
     v1::Scenario s = base_message();

@@ -410,7 +410,7 @@ TEST(ServiceEndToEnd, TwentySigkillsAtRandomMomentsAcrossRunsLoseAndDoubleNothin
   TempDir dir;
   std::string scenario = test::read_text(kTiny);
   const std::string duration = "duration_days: 0.04";
-  scenario.replace(scenario.find(duration), duration.size(), "duration_days: 0.12");
+  scenario.replace(scenario.find(duration), duration.size(), "duration_days: 0.5");
   const std::string path = dir.path() + "/longer.yaml";
   test::write_text(path, scenario);
   LocalRun local = run_in_process(path);

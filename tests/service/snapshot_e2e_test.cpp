@@ -135,7 +135,8 @@ TEST_F(SnapshotEndToEnd, ListsTheStartEveryIntervalAndTheLastStep) {
 
 TEST_F(SnapshotEndToEnd, GetsTheLastSnapshotAtOrBeforeAStepTimeOrEpoch) {
   v1::GetSnapshotResponse r;
-  ASSERT_TRUE(get({}, r).ok());
+  const grpc::Status status = get({}, r);
+  ASSERT_TRUE(status.ok()) << status.error_code() << " " << status.error_message();
   EXPECT_EQ(r.snapshot().step(), 43);
   EXPECT_EQ(r.total(), shared_->run.summary().objects_final());
   v1::GetSnapshotRequest at;

@@ -54,14 +54,18 @@ json render_results(const std::string& dom) {
 }
 
 // The marks the figures' data should give: a line per series, a point per kappa, a bar per phase, a
-// rule per marker.
+// rule per marker; the snapshot figures draw marks.
 void expect_marks(const json& results, const json& figures) {
   ASSERT_TRUE(results.is_object());
   EXPECT_TRUE(results["done"].get<bool>());
   EXPECT_TRUE(results["errors"].empty()) << results["errors"].dump();
   std::map<std::string, json> spec;
   for (const json& f : figures) spec[f["id"]] = f["spec"];
-  ASSERT_EQ(results["figures"].size(), 4u) << results.dump();
+  // The four figures of the run's stats and events, then four of its snapshots and conjunctions.
+  ASSERT_EQ(results["figures"].size(), 8u) << results.dump();
+  ASSERT_EQ(figures.size(), 8u);
+  for (const char* id : {"population-distributions", "conjunction-sizes", "conjunction-orbits", "spatial-density"})
+    EXPECT_FALSE(results["figures"][id].empty()) << id << " drew no marks: " << results.dump();
   EXPECT_EQ(results["figures"]["conjunctions-over-time"], json({{"line", 4}}));
   EXPECT_EQ(results["figures"]["conjunctions-vs-kappa"], json({{"line", 1}, {"symbol", 10}}));
   EXPECT_EQ(results["figures"]["runtime-breakdown"], json({{"rect", 6}}));

@@ -129,7 +129,7 @@ TEST_F(Dashboard, PagesAndScriptsAreServed) {
   EXPECT_NE(script->body.find("kesslerRenderFigures"), std::string::npos);
   auto figures = get(run_path("/figures"));
   ASSERT_TRUE(figures);
-  EXPECT_EQ(json::parse(figures->body)["figures"].size(), 4u);
+  EXPECT_EQ(json::parse(figures->body)["figures"].size(), 8u);  // four from stats, four from snapshots
 }
 
 }  // namespace
