@@ -52,7 +52,8 @@ struct UtSamples {
 };
 
 std::size_t node_index(int iq, int it, int iu) {
-  return (static_cast<std::size_t>(iq) * kNt + static_cast<std::size_t>(it)) * kNu + static_cast<std::size_t>(iu);
+  return (static_cast<std::size_t>(iq) * kNt + static_cast<std::size_t>(it)) * kNu +
+         static_cast<std::size_t>(iu);
 }
 
 // Cubic Lagrange weights for fine node i of a piece [lo, hi] whose coarse nodes are lo, lo + stride, ...,
@@ -101,21 +102,22 @@ void build_column(int iq, int it, int doy, const DailySolarActivity& solar, cons
       samples[k][c] = std::log(terms.at(MsisDensityGrid::node_altitude_km(c * kStrideU)).rho_drag_kg_m3);
   }
   double series[kCoarseU][kCoefficients] = {};
-  for (int c = 0; c < kCoarseU; ++c) {
+  for (std::size_t c = 0; c < kCoarseU; ++c) {
     for (int k = 0; k < kUtSamples; ++k) {
       const double v = samples[k][c];
       series[c][0] += v / kUtSamples;
       for (int m = 1; m <= kUtHarmonics; ++m) {
         const double angle = 2.0 * kPi * m * k / kUtSamples;
-        series[c][2 * m - 1] += 2.0 * v * std::cos(angle) / kUtSamples;
-        series[c][2 * m] += 2.0 * v * std::sin(angle) / kUtSamples;
+        series[c][2 * static_cast<std::size_t>(m) - 1] += 2.0 * v * std::cos(angle) / kUtSamples;
+        series[c][2 * static_cast<std::size_t>(m)] += 2.0 * v * std::sin(angle) / kUtSamples;
       }
     }
   }
   for (int iu = 0; iu < kNu; ++iu) {
     const std::size_t node = node_index(iq, it, iu);
     if (iu % kStrideU == 0) {
-      for (int j = 0; j < kCoefficients; ++j) coefficients[j * kNodes + node] = static_cast<float>(series[iu / kStrideU][j]);
+      for (int j = 0; j < kCoefficients; ++j)
+        coefficients[j * kNodes + node] = static_cast<float>(series[iu / kStrideU][j]);
       continue;
     }
     const Stencil s = cubic_stencil(iu, 0, kNu - 1, kStrideU);
@@ -152,7 +154,8 @@ void fill_local_times(float* coefficients) {
     }
     for (int iu = 0; iu < kNu; ++iu)
       for (int j = 0; j < kCoefficients; ++j)
-        coefficients[j * kNodes + node_index(iq, kTimeCells, iu)] = coefficients[j * kNodes + node_index(iq, 0, iu)];
+        coefficients[j * kNodes + node_index(iq, kTimeCells, iu)] =
+            coefficients[j * kNodes + node_index(iq, 0, iu)];
   }
 }
 
@@ -162,7 +165,8 @@ MsisDensityGrid::MsisDensityGrid(const UtcEpoch& epoch, const SolarActivitySetti
                                  std::shared_ptr<const SpaceWeather> space_weather)
     : epoch_(epoch), settings_(settings), space_weather_(std::move(space_weather)) {
   if (settings_.mode != SolarActivityMode::kConstant) {
-    if (!space_weather_) throw std::invalid_argument("NRLMSISE-00: solar activity needs a space weather table");
+    if (!space_weather_)
+      throw std::invalid_argument("NRLMSISE-00: solar activity needs a space weather table");
     space_weather_->cycle(day_number(epoch));  // throws when the table lacks cycles 23-24
   } else if (!(settings_.f107_sfu > 0.0) || !(settings_.ap >= 0.0)) {
     throw std::invalid_argument("NRLMSISE-00: constant solar activity needs f107 > 0 and ap >= 0");
@@ -205,9 +209,9 @@ Eigen::Vector2d MsisDensityGrid::sun_direction(double t_s) const {
 MsisInput MsisDensityGrid::model_input(double t_s, const Eigen::Vector3d& r) const {
   const UtcEpoch when = epoch_.plus_seconds(t_s);
   const std::int64_t day = day_number(when);
-  const DailySolarActivity solar = space_weather_ ? space_weather_->on_day(day, settings_)
-                                                  : DailySolarActivity{settings_.f107_sfu, settings_.f107_sfu,
-                                                                       settings_.ap};
+  const DailySolarActivity solar =
+      space_weather_ ? space_weather_->on_day(day, settings_)
+                     : DailySolarActivity{settings_.f107_sfu, settings_.f107_sfu, settings_.ap};
   MsisInput in;
   in.day_of_year = day_of_year(day);
   in.ut_s = when.jd_fraction() * kDay_s;
@@ -234,9 +238,9 @@ MsisDensityGrid::Day MsisDensityGrid::build_day(std::int64_t day) const {
   Day out;
   out.day = day;
   out.coefficients.assign(kNodes * kCoefficients, 0.0f);
-  const DailySolarActivity solar = space_weather_ ? space_weather_->on_day(day, settings_)
-                                                  : DailySolarActivity{settings_.f107_sfu, settings_.f107_sfu,
-                                                                       settings_.ap};
+  const DailySolarActivity solar =
+      space_weather_ ? space_weather_->on_day(day, settings_)
+                     : DailySolarActivity{settings_.f107_sfu, settings_.f107_sfu, settings_.ap};
   const int doy = day_of_year(day);
   const UtcEpoch midnight = UtcEpoch::from_julian_date(2440587.5 + static_cast<double>(day), 0.0);
   UtSamples ut;

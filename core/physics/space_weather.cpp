@@ -33,7 +33,8 @@ struct Reporter {
   const std::string& name;
   std::size_t line = 0;
   [[noreturn]] void fail(std::string_view field, const std::string& reason) const {
-    throw std::runtime_error(name + " line " + std::to_string(line) + ": " + std::string(field) + ": " + reason);
+    throw std::runtime_error(name + " line " + std::to_string(line) + ": " + std::string(field) + ": " +
+                             reason);
   }
 };
 
@@ -43,7 +44,9 @@ double number(const Reporter& at, std::string_view field, std::string_view text,
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
     at.fail(field, std::string("'").append(text).append("' is not a number"));
-  if (value < minimum) at.fail(field, std::string(text).append(" is out of range (below ").append(std::to_string(minimum)).append(")"));
+  if (value < minimum)
+    at.fail(field,
+            std::string(text).append(" is out of range (below ").append(std::to_string(minimum)).append(")"));
   return value;
 }
 
@@ -114,9 +117,9 @@ SpaceWeather SpaceWeather::parse(std::string_view csv, const std::string& name) 
         if (f[u] == "F10.7_OBS_CENTER81") col_avg = i;
         if (f[u] == "F10.7_DATA_TYPE") col_type = i;
       }
-      for (auto [col, field] : {std::pair{col_date, "DATE"}, std::pair{col_ap, "AP_AVG"},
-                                std::pair{col_f107, "F10.7_OBS"}, std::pair{col_avg, "F10.7_OBS_CENTER81"},
-                                std::pair{col_type, "F10.7_DATA_TYPE"}})
+      for (auto [col, field] :
+           {std::pair{col_date, "DATE"}, std::pair{col_ap, "AP_AVG"}, std::pair{col_f107, "F10.7_OBS"},
+            std::pair{col_avg, "F10.7_OBS_CENTER81"}, std::pair{col_type, "F10.7_DATA_TYPE"}})
         if (col < 0) at.fail(field, "no such column in the header");
       continue;
     }
@@ -128,8 +131,8 @@ SpaceWeather SpaceWeather::parse(std::string_view csv, const std::string& name) 
     int day_of_month = 0;
     const std::int64_t day = date(at, field(col_date), day_of_month);
     const std::string_view type = field(col_type);
-    Row row{day, number(at, "F10.7_OBS", field(col_f107), 0.0), number(at, "F10.7_OBS_CENTER81", field(col_avg), 0.0),
-            0.0};
+    Row row{day, number(at, "F10.7_OBS", field(col_f107), 0.0),
+            number(at, "F10.7_OBS_CENTER81", field(col_avg), 0.0), 0.0};
     if (type == "OBS" || type == "INT" || type == "PRD") {
       row.ap = number(at, "AP_AVG", field(col_ap), 0.0);
       if (!table.monthly_.empty()) at.fail("DATE", "a daily row after the monthly rows");
@@ -148,8 +151,8 @@ SpaceWeather SpaceWeather::parse(std::string_view csv, const std::string& name) 
     } else if (type == "PRM") {
       if (table.daily_.empty()) at.fail("DATE", "a monthly row before any daily row");
       if (day_of_month != 1) at.fail("DATE", "a monthly row not dated the 1st");
-      const std::int64_t expected =
-          table.monthly_.empty() ? next_month(table.daily_.back().day) : next_month(table.monthly_.back().day);
+      const std::int64_t expected = table.monthly_.empty() ? next_month(table.daily_.back().day)
+                                                           : next_month(table.monthly_.back().day);
       if (day != expected)
         at.fail("DATE", std::string(field(col_date)).append(" does not follow the previous month"));
       table.monthly_.push_back(row);
@@ -181,7 +184,9 @@ SpaceWeather SpaceWeather::load(const std::string& path) {
   return parse(buffer.str(), slash == std::string::npos ? path : path.substr(slash + 1));
 }
 
-std::shared_ptr<const SpaceWeather> SpaceWeather::bundled() { return in_datasets(default_datasets_dir()); }
+std::shared_ptr<const SpaceWeather> SpaceWeather::bundled() {
+  return in_datasets(default_datasets_dir());
+}
 
 std::shared_ptr<const SpaceWeather> SpaceWeather::in_datasets(const std::string& datasets_dir) {
   static std::mutex mutex;

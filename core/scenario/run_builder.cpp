@@ -7,12 +7,12 @@
 #include <set>
 
 #include "core/catalog/bundled_datasets.hpp"
-#include "core/physics/space_weather.hpp"
 #include "core/catalog/leo19647.hpp"
 #include "core/catalog/state_table.hpp"
 #include "core/catalog/synthetic.hpp"
 #include "core/conjunctions/detector.hpp"
 #include "core/integration/symplectic_propagator.hpp"
+#include "core/physics/space_weather.hpp"
 #include "core/scenario/breakup_validation.hpp"
 #include "core/scenario/scenario_defaults.hpp"
 #include "core/scenario/traffic_validation.hpp"

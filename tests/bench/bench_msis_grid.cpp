@@ -40,7 +40,8 @@ int run(int argc, char** argv) {
     grid.grid_at((static_cast<double>(d) + 0.5) * 86400.0);  // the day's build and one slot
     walls.push_back(now_s() - start);
     cpus.push_back(process_cpu_s() - cpu_start);
-    std::printf("day %lld: %.3f s wall, %.3f s cpu\n", static_cast<long long>(d + 1), walls.back(), cpus.back());
+    std::printf("day %lld: %.3f s wall, %.3f s cpu\n", static_cast<long long>(d + 1), walls.back(),
+                cpus.back());
   }
   // A slot's grid (the series summed at one UT), as the force model asks for every 120 s of simulated time.
   std::vector<double> slot_cpus;
@@ -64,7 +65,9 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-KESSLER_BENCH("msis-grid", "build NRLMSISE-00's force-model grid for --days D (one per UTC day); --threads T "
-                           "--from YYYY-MM-DD", run);
+KESSLER_BENCH("msis-grid",
+              "build NRLMSISE-00's force-model grid for --days D (one per UTC day); --threads T "
+              "--from YYYY-MM-DD",
+              run);
 
 }  // namespace kessler::bench

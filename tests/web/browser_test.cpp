@@ -64,7 +64,8 @@ void expect_marks(const json& results, const json& figures) {
   // The four figures of the run's stats and events, then four of its snapshots and conjunctions.
   ASSERT_EQ(results["figures"].size(), 8u) << results.dump();
   ASSERT_EQ(figures.size(), 8u);
-  for (const char* id : {"population-distributions", "conjunction-sizes", "conjunction-orbits", "spatial-density"})
+  for (const char* id :
+       {"population-distributions", "conjunction-sizes", "conjunction-orbits", "spatial-density"})
     EXPECT_FALSE(results["figures"][id].empty()) << id << " drew no marks: " << results.dump();
   EXPECT_EQ(results["figures"]["conjunctions-over-time"], json({{"line", 4}}));
   EXPECT_EQ(results["figures"]["conjunctions-vs-kappa"], json({{"line", 1}, {"symbol", 10}}));
