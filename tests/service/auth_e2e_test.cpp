@@ -300,6 +300,11 @@ TEST(DaemonExposure, PublicAddressesNeedTlsAndTokensOrInsecure) {
                                    tls_file("server.key")),
             2);  // TLS without tokens
   EXPECT_EQ(kesslerd_exit(dir, "--listen 127.0.0.1:99999"), 2);
+  // The dashboard takes no tokens: loopback only, unless --insecure.
+  EXPECT_EQ(kesslerd_exit(dir, "--http 0.0.0.0:0"), 2);
+  EXPECT_NE(test::read_text(dir.path() + "/x.out").find("--http 0.0.0.0:0 is not loopback"),
+            std::string::npos);
+  EXPECT_EQ(kesslerd_exit(dir, "--http 127.0.0.1:99999"), 2);
   EXPECT_EQ(kesslerd_exit(dir, "--listen 127.0.0.1:-1"), 2);
   EXPECT_EQ(kesslerd_exit(dir, "--listen 127.0.0.1:5x"), 2);
   EXPECT_EQ(
