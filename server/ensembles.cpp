@@ -51,7 +51,8 @@ v1::EnsembleSample sample_at(const std::vector<MemberResults>& members, const st
     fragments[m] = static_cast<double>(s.by_type().fragments());
     collisions[m] = count_until(members[m].collision_times, t);
     catastrophic[m] = count_until(members[m].catastrophic_times, t);
-    for (std::size_t k = 0; k < kappas; ++k) conjunctions[k][m] = count_until(members[m].conjunction_times[k], t);
+    for (std::size_t k = 0; k < kappas; ++k)
+      conjunctions[k][m] = count_until(members[m].conjunction_times[k], t);
   }
   v1::EnsembleSample out;
   out.set_t(t);
@@ -67,7 +68,12 @@ v1::EnsembleSample sample_at(const std::vector<MemberResults>& members, const st
   out.set_fragments_mean(mean(fragments));
   out.set_collisions_mean(mean(collisions));
   out.set_catastrophic_mean(mean(catastrophic));
-  for (const auto& c : conjunctions) out.add_conjunctions_mean(mean(c));
+  for (auto& c : conjunctions) {
+    out.add_conjunctions_mean(mean(c));
+    std::sort(c.begin(), c.end());
+    out.add_conjunctions_p05(percentile(c, 0.05));
+    out.add_conjunctions_p95(percentile(c, 0.95));
+  }
   return out;
 }
 
@@ -160,10 +166,10 @@ v1::EnsembleReport RunManager::submit_ensemble(const v1::SubmitEnsembleRequest& 
   std::optional<v1::IngestReport> ingest = admit(base, request.threads());
   if (ingest) malloc_trim(0);  // the ingest's buffers go back to the system
   if (scheduler_->queued() + members > options_.queue_limit)
-    throw ServiceError(Code::kResourceExhausted,
-                       "queue full: " + std::to_string(scheduler_->queued()) + " of " +
-                           std::to_string(options_.queue_limit) + " runs are waiting, the ensemble needs " +
-                           std::to_string(members) + " more; try later");
+    throw ServiceError(Code::kResourceExhausted, "queue full: " + std::to_string(scheduler_->queued()) +
+                                                     " of " + std::to_string(options_.queue_limit) +
+                                                     " runs are waiting, the ensemble needs " +
+                                                     std::to_string(members) + " more; try later");
   std::vector<v1::Scenario> member_scenarios(members, base);
   for (std::uint64_t k = 0; k < members; ++k) member_scenarios[k].set_seed(seed + k);
   const int threads = request.threads() > 0 ? request.threads() : options_.threads_per_run;
@@ -216,7 +222,8 @@ v1::EnsembleReport RunManager::ensemble_head(std::int64_t ensemble_id) {
 v1::EnsembleReport RunManager::get_ensemble(const v1::GetEnsembleRequest& request) {
   v1::EnsembleReport report = ensemble_head(request.ensemble_id());
   auto e = store_.get_ensemble(request.ensemble_id(), true);
-  if (!e) throw ServiceError(Code::kNotFound, "ensemble " + std::to_string(request.ensemble_id()) + " not found");
+  if (!e)
+    throw ServiceError(Code::kNotFound, "ensemble " + std::to_string(request.ensemble_id()) + " not found");
   std::vector<double> kappas(request.kappas().begin(), request.kappas().end());
   for (double k : kappas)
     if (!(k > 0)) throw ServiceError(Code::kInvalidArgument, "kappas: must be > 0", "kappas");

@@ -33,9 +33,13 @@ std::string member_json(const v1::EnsembleMember& m) {
       .str();
 }
 
+std::string json_numbers(const google::protobuf::RepeatedField<double>& values) {
+  std::string out;
+  for (double v : values) out += (out.empty() ? "" : ",") + json_number(v);
+  return "[" + out + "]";
+}
+
 std::string sample_json(const v1::EnsembleSample& s) {
-  std::string conj;
-  for (double c : s.conjunctions_mean()) conj += (conj.empty() ? "" : ",") + json_number(c);
   return JsonObject()
       .add("t", s.t())
       .add("objects_mean", s.objects_mean())
@@ -49,7 +53,9 @@ std::string sample_json(const v1::EnsembleSample& s) {
       .add("fragments_mean", s.fragments_mean())
       .add("collisions_mean", s.collisions_mean())
       .add("catastrophic_mean", s.catastrophic_mean())
-      .add_raw("conjunctions_mean", "[" + conj + "]")
+      .add_raw("conjunctions_mean", json_numbers(s.conjunctions_mean()))
+      .add_raw("conjunctions_p05", json_numbers(s.conjunctions_p05()))
+      .add_raw("conjunctions_p95", json_numbers(s.conjunctions_p95()))
       .str();
 }
 
@@ -67,12 +73,11 @@ JsonObject head_json(const v1::EnsembleReport& e) {
 }
 
 void print_show_json(const v1::EnsembleReport& e) {
-  std::string kappas, members, series;
-  for (double k : e.kappas()) kappas += (kappas.empty() ? "" : ",") + json_number(k);
+  std::string members, series;
   for (const auto& m : e.member()) members += (members.empty() ? "" : ",") + member_json(m);
   for (const auto& s : e.series()) series += (series.empty() ? "" : ",") + sample_json(s);
   std::cout << head_json(e)
-                   .add_raw("kappas", "[" + kappas + "]")
+                   .add_raw("kappas", json_numbers(e.kappas()))
                    .add_raw("member_runs", "[" + members + "]")
                    .add_raw("series", "[" + series + "]")
                    .str()
@@ -82,11 +87,15 @@ void print_show_json(const v1::EnsembleReport& e) {
 std::vector<std::string> series_header(const v1::EnsembleReport& e, bool all) {
   std::vector<std::string> h = {"t_s", "objects_mean", "objects_median", "objects_p05", "objects_p95"};
   if (all)
-    for (const char* c : {"payload_mean", "rocket_body_mean", "debris_mean", "unknown_mean", "fragments_mean"})
+    for (const char* c :
+         {"payload_mean", "rocket_body_mean", "debris_mean", "unknown_mean", "fragments_mean"})
       h.push_back(c);
   h.push_back("collisions_mean");
   h.push_back("catastrophic_mean");
   for (double k : e.kappas()) h.push_back("conj_kappa_" + number(k) + "_mean");
+  if (all)
+    for (const char* stat : {"_p05", "_p95"})
+      for (double k : e.kappas()) h.push_back("conj_kappa_" + number(k) + stat);
   return h;
 }
 
@@ -94,11 +103,16 @@ std::vector<std::string> series_row(const v1::EnsembleSample& s, bool all) {
   std::vector<std::string> row = {number(s.t()), number(s.objects_mean()), number(s.objects_median()),
                                   number(s.objects_p05()), number(s.objects_p95())};
   if (all)
-    for (double v : {s.payload_mean(), s.rocket_body_mean(), s.debris_mean(), s.unknown_mean(), s.fragments_mean()})
+    for (double v :
+         {s.payload_mean(), s.rocket_body_mean(), s.debris_mean(), s.unknown_mean(), s.fragments_mean()})
       row.push_back(number(v));
   row.push_back(number(s.collisions_mean()));
   row.push_back(number(s.catastrophic_mean()));
   for (double c : s.conjunctions_mean()) row.push_back(number(c));
+  if (all) {
+    for (double c : s.conjunctions_p05()) row.push_back(number(c));
+    for (double c : s.conjunctions_p95()) row.push_back(number(c));
+  }
   return row;
 }
 
@@ -163,7 +177,8 @@ int list(const EnsembleOptions& o, const GlobalOptions& global) {
     std::cout << "]\n";
     return kExitOk;
   }
-  const std::vector<std::string> header = {"ID", "NAME", "STATE", "MEMBERS", "FINISHED", "AGGREGATED", "SEEDS"};
+  const std::vector<std::string> header = {"ID",       "NAME",       "STATE", "MEMBERS",
+                                           "FINISHED", "AGGREGATED", "SEEDS"};
   std::vector<std::vector<std::string>> rows;
   for (const auto& e : response.ensembles())
     rows.push_back({std::to_string(e.id()), e.name().empty() ? "-" : e.name(), v1::run_state_name(e.state()),
@@ -222,7 +237,8 @@ CommandRun setup_ensemble(CLI::App& command, GlobalOptions& global) {
   command.require_subcommand(1);
   CLI::App* show_cmd = command.add_subcommand("show", "the ensemble's members and aggregates over time");
   add_ensemble_id(*show_cmd, o->id);
-  show_cmd->add_option("--kappas", o->kappas, "kappa thresholds of the conjunction columns (default 1 2 5 10)")
+  show_cmd
+      ->add_option("--kappas", o->kappas, "kappa thresholds of the conjunction columns (default 1 2 5 10)")
       ->check(positive_number());
   add_global_options(*show_cmd, global, "table (default), csv (one row per sample, every column) or json");
   CLI::App* list_cmd = command.add_subcommand("list", "ensembles, newest first");

@@ -2,6 +2,7 @@
 // run's total against kappa. Collisions count as conjunctions, evasions do not (GetRunStats' rule).
 #include <algorithm>
 #include <cstdio>
+#include <utility>
 
 #include "server/figures/figure.hpp"
 
@@ -36,15 +37,43 @@ json run_rows(const RunData& data, const TimeAxis& axis) {
   return rows;
 }
 
+// The members' 5-95 % band of a sample at kappa index k (the mean where an older store has none).
+std::pair<double, double> band_of(const v1::EnsembleSample& s, int k) {
+  if (k >= s.conjunctions_p05_size() || k >= s.conjunctions_p95_size())
+    return {s.conjunctions_mean(k), s.conjunctions_mean(k)};
+  return {s.conjunctions_p05(k), s.conjunctions_p95(k)};
+}
+
 json ensemble_rows(const v1::EnsembleReport& report, const TimeAxis& axis) {
   json rows = json::array();
   for (const v1::EnsembleSample& s : report.series())
-    for (int k = 0; k < report.kappas_size() && k < s.conjunctions_mean_size(); ++k)
+    for (int k = 0; k < report.kappas_size() && k < s.conjunctions_mean_size(); ++k) {
+      const auto [p05, p95] = band_of(s, k);
       rows.push_back({{"run", "mean"},
                       {"kappa", kappa_label(report.kappas(k))},
                       {"t", s.t() / axis.seconds_per_unit},
-                      {"n", s.conjunctions_mean(k)}});
+                      {"n", s.conjunctions_mean(k)},
+                      {"p05", p05},
+                      {"p95", p95}});
+    }
   return rows;
+}
+
+// An ensemble's spec: its encoding drawn as lines over the members' 5-95 % bands (fields p05, p95).
+void draw_with_bands(json& spec) {
+  json band_encoding = spec["encoding"];
+  band_encoding["y"] = {
+      {"field", "p05"}, {"type", "quantitative"}, {"title", spec["encoding"]["y"]["title"]}};
+  band_encoding["y2"] = {{"field", "p95"}};
+  band_encoding.erase("tooltip");
+  json band = {{"mark", {{"type", "area"}, {"opacity", 0.2}}}, {"encoding", band_encoding}};
+  json line = {{"mark", spec["mark"]}, {"encoding", spec["encoding"]}};
+  if (line["mark"].contains("interpolate")) band["mark"]["interpolate"] = line["mark"]["interpolate"];
+  line["encoding"]["tooltip"].push_back({{"field", "p05"}, {"title", "5 %"}});
+  line["encoding"]["tooltip"].push_back({{"field", "p95"}, {"title", "95 %"}});
+  spec.erase("mark");
+  spec.erase("encoding");
+  spec["layer"] = json::array({band, line});
 }
 
 json kappa_sort(const FigureSubject& subject) {
@@ -75,9 +104,10 @@ json conjunctions_over_time(const FigureSubject& subject) {
       for (auto& row : run_rows(r, axis)) rows.push_back(std::move(row));
   }
   if (rows.empty()) return nullptr;
-  json spec = base_spec("Conjunctions over time by kappa",
-                        subject.ensemble ? "cumulative, mean over the ensemble's succeeded members"
-                                         : "cumulative; collisions included, evasions not");
+  json spec =
+      base_spec("Conjunctions over time by kappa",
+                subject.ensemble ? "cumulative, mean over the ensemble's succeeded members; bands: 5-95 %"
+                                 : "cumulative; collisions included, evasions not");
   spec["data"] = {{"values", rows}};
   spec["mark"] = {{"type", "line"}, {"interpolate", "step-after"}};
   spec["encoding"] = {
@@ -91,6 +121,7 @@ json conjunctions_over_time(const FigureSubject& subject) {
                                {{"field", "n"}, {"title", "conjunctions"}}})},
   };
   if (subject.runs.size() > 1) spec["encoding"]["strokeDash"] = {{"field", "run"}, {"type", "nominal"}};
+  if (subject.ensemble) draw_with_bands(spec);
   return spec;
 }
 
@@ -100,8 +131,14 @@ json conjunctions_vs_kappa(const FigureSubject& subject) {
     const auto& report = *subject.ensemble;
     if (report.series_size() == 0) return nullptr;
     const v1::EnsembleSample& last = report.series(report.series_size() - 1);
-    for (int k = 0; k < report.kappas_size() && k < last.conjunctions_mean_size(); ++k)
-      rows.push_back({{"run", "mean"}, {"kappa", report.kappas(k)}, {"n", last.conjunctions_mean(k)}});
+    for (int k = 0; k < report.kappas_size() && k < last.conjunctions_mean_size(); ++k) {
+      const auto [p05, p95] = band_of(last, k);
+      rows.push_back({{"run", "mean"},
+                      {"kappa", report.kappas(k)},
+                      {"n", last.conjunctions_mean(k)},
+                      {"p05", p05},
+                      {"p95", p95}});
+    }
   }
   for (const RunData& r : subject.runs)
     for (const v1::KappaSeries& s : r.kappa_sweep.by_kappa())
@@ -109,9 +146,9 @@ json conjunctions_vs_kappa(const FigureSubject& subject) {
                       {"kappa", s.kappa()},
                       {"n", s.cumulative_size() ? s.cumulative(s.cumulative_size() - 1) : 0}});
   if (rows.empty()) return nullptr;
-  json spec = base_spec("Conjunctions against kappa", subject.ensemble
-                                                          ? "over the whole run, mean over the ensemble"
-                                                          : "over the whole run (so far, while it runs)");
+  json spec = base_spec("Conjunctions against kappa",
+                        subject.ensemble ? "over the whole run, mean over the ensemble; band: 5-95 %"
+                                         : "over the whole run (so far, while it runs)");
   spec["data"] = {{"values", rows}};
   spec["mark"] = {{"type", "line"}, {"point", true}};
   spec["encoding"] = {
@@ -121,6 +158,7 @@ json conjunctions_vs_kappa(const FigureSubject& subject) {
       {"tooltip",
        json::array({{{"field", "run"}}, {{"field", "kappa"}}, {{"field", "n"}, {"title", "conjunctions"}}})},
   };
+  if (subject.ensemble) draw_with_bands(spec);
   return spec;
 }
 

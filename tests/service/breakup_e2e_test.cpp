@@ -12,6 +12,7 @@
 #include "kessler/v1/service.grpc.pb.h"
 #include "server/api_server.hpp"
 #include "server/run_manager.hpp"
+#include "tests/service/in_process_service.hpp"
 #include "tests/service/service_harness.hpp"
 
 namespace kessler {
@@ -36,14 +37,6 @@ seed: 5
 
 constexpr std::int64_t kExplosionStep = 6;
 
-// The first object of the scenario's population: the one that explodes.
-ObjectId first_object(const v1::Scenario& scenario) {
-  FieldError error;
-  auto simulation = build_simulation(scenario, BuildOptions{}, &error);
-  if (!simulation) throw std::runtime_error(error.message());
-  return simulation->population().id[0];
-}
-
 std::vector<std::string> lines_of(const std::string& text) {
   std::vector<std::string> out;
   std::istringstream s(text);
@@ -55,68 +48,20 @@ std::vector<std::string> lines_of(const std::string& text) {
 // One daemon and one run with the explosion, shared by the tests below (the run takes a second).
 class BreakupEndToEnd : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { shared_ = new Shared(); }
+  static void SetUpTestSuite() { shared_ = new Shared(test::parsed_scenario(kScenario)); }
   static void TearDownTestSuite() {
     delete shared_;
     shared_ = nullptr;
   }
 
-  struct Shared {
-    Shared() {
-      if (parse_scenario(kScenario, scenario)) throw std::runtime_error("scenario");
-      target = first_object(scenario);
-      server::ManagerOptions options;
-      options.db_path = dir.path() + "/k.db";
-      options.adjust_config = [t = target](SimulationConfig& c) {
-        c.breakups.enabled = true;
-        ScheduledBreakup explosion;
-        explosion.step = kExplosionStep;
-        explosion.kind = BreakupKind::kExplosion;
-        explosion.object_ids = {t};
-        explosion.masses_kg = {800.0};
-        c.breakups.scheduled = {explosion};
-      };
-      manager = std::make_unique<server::RunManager>(options);
-      api = std::make_unique<server::ApiServer>(*manager, "127.0.0.1:0", 64 << 20);
-      address = "127.0.0.1:" + std::to_string(api->port());
-      stub = v1::KesslerService::NewStub(grpc::CreateChannel(address, grpc::InsecureChannelCredentials()));
-      v1::SubmitRunRequest submit;
-      *submit.mutable_scenario() = scenario;
-      grpc::ClientContext context;
-      if (!stub->SubmitRun(&context, submit, &run).ok()) throw std::runtime_error("submit");
-      events = watch(0, false, &final_state);
+  struct Shared : test::InProcessService {
+    explicit Shared(const v1::Scenario& parsed)
+        : InProcessService(test::explode_at(test::first_object(parsed), kExplosionStep)), scenario(parsed) {
+      run = submit(scenario);
+      events = watch(run.id(), 0, false, &final_state);
     }
-    ~Shared() {
-      api.reset();  // the server stops before the manager it serves
-      manager.reset();
-    }
-    // The stream after `after_seq` to the run's end (state changes apart).
-    std::vector<v1::RunEvent> watch(std::uint64_t after_seq, bool no_progress,
-                                    v1::RunState* state = nullptr) {
-      grpc::ClientContext context;
-      v1::WatchRunRequest request;
-      request.set_run_id(run.id());
-      request.set_after_seq(after_seq);
-      request.set_no_progress(no_progress);
-      auto reader = stub->WatchRun(&context, request);
-      std::vector<v1::RunEvent> out;
-      for (v1::RunEvent e; reader->Read(&e);) {
-        if (!e.has_state())
-          out.push_back(e);
-        else if (state)
-          *state = e.state().state();
-      }
-      if (!reader->Finish().ok()) throw std::runtime_error("watch");
-      return out;
-    }
-
-    TempDir dir;
     v1::Scenario scenario;
-    ObjectId target = 0;
-    std::unique_ptr<server::RunManager> manager;
-    std::unique_ptr<server::ApiServer> api;
-    std::string address;
-    std::unique_ptr<v1::KesslerService::Stub> stub;
+    ObjectId target = test::first_object(scenario);  // the one that explodes
     v1::Run run;
     std::vector<v1::RunEvent> events;
     v1::RunState final_state = v1::RUN_STATE_UNSPECIFIED;
@@ -158,7 +103,7 @@ TEST_F(BreakupEndToEnd, WatchStreamsTheBreakupInSequenceAndReplaysItOnce) {
   EXPECT_EQ(b.first_id(), kFirstFragmentId);
   EXPECT_EQ(b.last_id(), b.first_id() + b.fragment_count() - 1);
   // Replayed from the store after its predecessor: the breakup comes first, the same bytes, once.
-  auto replay = shared_->watch(e->seq() - 1, true);
+  auto replay = shared_->watch(shared_->run.id(), e->seq() - 1, true);
   ASSERT_FALSE(replay.empty());
   EXPECT_EQ(replay.front().SerializeAsString(), e->SerializeAsString());
   for (std::size_t i = 1; i < replay.size(); ++i) EXPECT_FALSE(replay[i].has_breakup());

@@ -20,6 +20,7 @@
 #include "server/api_server.hpp"
 #include "server/ensembles.hpp"
 #include "server/run_manager.hpp"
+#include "tests/service/in_process_service.hpp"
 #include "tests/service/service_harness.hpp"
 
 namespace kessler {
@@ -55,27 +56,19 @@ class EnsembleEndToEnd : public ::testing::Test {
     shared_ = nullptr;
   }
 
-  struct Shared {
-    Shared() {
+  struct Shared : test::InProcessService {
+    Shared()
+        : InProcessService([](server::ManagerOptions& options) {
+            options.runs_at_once = 2;
+            options.threads_per_run = 1;
+          }) {
       if (parse_scenario(kScenario, scenario)) throw std::runtime_error("scenario");
-      server::ManagerOptions options;
-      options.db_path = dir.path() + "/k.db";
-      options.runs_at_once = 2;
-      options.threads_per_run = 1;
-      manager = std::make_unique<server::RunManager>(options);
-      api = std::make_unique<server::ApiServer>(*manager, "127.0.0.1:0", 64 << 20);
-      address = "127.0.0.1:" + std::to_string(api->port());
-      stub = v1::KesslerService::NewStub(grpc::CreateChannel(address, grpc::InsecureChannelCredentials()));
       v1::SubmitEnsembleRequest submit;
       *submit.mutable_scenario() = scenario;
       grpc::ClientContext context;
       auto status = stub->SubmitEnsemble(&context, submit, &submitted);
       if (!status.ok()) throw std::runtime_error("submit: " + status.error_message());
       ensemble = wait_for(submitted.id());
-    }
-    ~Shared() {
-      api.reset();
-      manager.reset();
     }
     // GetEnsemble once every member has ended.
     v1::EnsembleReport wait_for(std::int64_t id) {
@@ -104,12 +97,7 @@ class EnsembleEndToEnd : public ::testing::Test {
       return out;
     }
 
-    TempDir dir;
     v1::Scenario scenario;
-    std::unique_ptr<server::RunManager> manager;
-    std::unique_ptr<server::ApiServer> api;
-    std::string address;
-    std::unique_ptr<v1::KesslerService::Stub> stub;
     v1::EnsembleReport submitted, ensemble;
   };
   static Shared* shared_;
@@ -203,7 +191,8 @@ Recomputed recompute(v1::KesslerService::Stub& stub, const v1::EnsembleReport& e
 
 double mean_count_until(const std::vector<std::vector<double>>& per_member, double t) {
   double sum = 0;
-  for (const auto& times : per_member) sum += static_cast<double>(std::count_if(times.begin(), times.end(), [&](double x) { return x <= t; }));
+  for (const auto& times : per_member)
+    sum += static_cast<double>(std::count_if(times.begin(), times.end(), [&](double x) { return x <= t; }));
   return sum / static_cast<double>(per_member.size());
 }
 
@@ -241,6 +230,15 @@ TEST_F(EnsembleEndToEnd, AggregatesEqualThoseRecomputedFromTheMembers) {
       std::vector<std::vector<double>> band;
       for (const auto& member : r.conjunctions) band.push_back(member[static_cast<std::size_t>(k)]);
       EXPECT_NEAR(s.conjunctions_mean(k), mean_count_until(band, s.t()), 1e-9) << "kappa " << e.kappas(k);
+      std::vector<double> counts;
+      for (const auto& times : band) counts.push_back(mean_count_until({times}, s.t()));
+      std::sort(counts.begin(), counts.end());
+      ASSERT_EQ(s.conjunctions_p05_size(), 4);
+      ASSERT_EQ(s.conjunctions_p95_size(), 4);
+      EXPECT_NEAR(s.conjunctions_p05(k), counts[0] + 0.1 * (counts[1] - counts[0]), 1e-9)
+          << "kappa " << e.kappas(k);
+      EXPECT_NEAR(s.conjunctions_p95(k), counts[1] + 0.9 * (counts[2] - counts[1]), 1e-9)
+          << "kappa " << e.kappas(k);
     }
     total_conjunctions = s.conjunctions_mean(3);
   }
@@ -288,7 +286,8 @@ TEST_F(EnsembleEndToEnd, BadRequestsAreRefused) {
     request.set_ensemble_id(999);
     v1::EnsembleReport out;
     grpc::ClientContext context;
-    EXPECT_EQ(shared_->stub->CancelEnsemble(&context, request, &out).error_code(), grpc::StatusCode::NOT_FOUND);
+    EXPECT_EQ(shared_->stub->CancelEnsemble(&context, request, &out).error_code(),
+              grpc::StatusCode::NOT_FOUND);
   }
   {
     v1::CancelEnsembleRequest request;
@@ -320,7 +319,8 @@ TEST_F(EnsembleEndToEnd, CliShowsTheEnsemble) {
   ASSERT_EQ(series.values_size(), shared_->ensemble.series_size());
   for (int i = 0; i < series.values_size(); ++i) {
     const auto& sample = series.values(i).struct_value().fields();
-    for (const char* key : {"t", "objects_mean", "objects_p05", "objects_p95", "collisions_mean"})
+    for (const char* key : {"t", "objects_mean", "objects_p05", "objects_p95", "collisions_mean",
+                            "conjunctions_mean", "conjunctions_p05", "conjunctions_p95"})
       ASSERT_TRUE(sample.count(key)) << key;
     EXPECT_NEAR(sample.at("objects_mean").number_value(), shared_->ensemble.series(i).objects_mean(), 1e-6);
   }
@@ -328,6 +328,8 @@ TEST_F(EnsembleEndToEnd, CliShowsTheEnsemble) {
   ASSERT_EQ(csv.exit_code, 0) << csv.err;
   EXPECT_EQ(std::count(csv.out.begin(), csv.out.end(), '\n'), shared_->ensemble.series_size() + 1);
   EXPECT_EQ(csv.out.rfind("t_s,objects_mean,objects_median,objects_p05,objects_p95,", 0), 0u) << csv.out;
+  EXPECT_NE(csv.out.find(",conj_kappa_10_mean,conj_kappa_1_p05,"), std::string::npos) << csv.out;
+  EXPECT_NE(csv.out.find(",conj_kappa_10_p95\n"), std::string::npos) << csv.out;
   auto table = cli(dir, "ensemble show " + id + server);
   EXPECT_EQ(table.exit_code, 0);
   EXPECT_NE(table.out.find("3/3 members finished"), std::string::npos) << table.out;

@@ -11,6 +11,7 @@
 #include "kessler/v1/service.grpc.pb.h"
 #include "server/api_server.hpp"
 #include "server/run_manager.hpp"
+#include "tests/service/in_process_service.hpp"
 #include "tests/service/service_harness.hpp"
 
 namespace kessler {
@@ -46,41 +47,13 @@ class LifecycleEndToEnd : public ::testing::Test {
     shared_ = nullptr;
   }
 
-  struct Shared {
+  struct Shared : test::InProcessService {
     Shared() {
       if (parse_scenario(kScenario, scenario)) throw std::runtime_error("scenario");
-      server::ManagerOptions options;
-      options.db_path = dir.path() + "/k.db";
-      manager = std::make_unique<server::RunManager>(options);
-      api = std::make_unique<server::ApiServer>(*manager, "127.0.0.1:0", 64 << 20);
-      address = "127.0.0.1:" + std::to_string(api->port());
-      stub = v1::KesslerService::NewStub(grpc::CreateChannel(address, grpc::InsecureChannelCredentials()));
-      v1::SubmitRunRequest submit;
-      *submit.mutable_scenario() = scenario;
-      grpc::ClientContext context;
-      if (!stub->SubmitRun(&context, submit, &run).ok()) throw std::runtime_error("submit");
-      grpc::ClientContext watch_context;
-      v1::WatchRunRequest request;
-      request.set_run_id(run.id());
-      auto reader = stub->WatchRun(&watch_context, request);
-      for (v1::RunEvent e; reader->Read(&e);) {
-        if (!e.has_state())
-          events.push_back(e);
-        else
-          final_state = e.state().state();
-      }
-      if (!reader->Finish().ok()) throw std::runtime_error("watch");
+      run = submit(scenario);
+      events = watch(run.id(), 0, false, &final_state);
     }
-    ~Shared() {
-      api.reset();  // the server stops before the manager it serves
-      manager.reset();
-    }
-    TempDir dir;
     v1::Scenario scenario;
-    std::unique_ptr<server::RunManager> manager;
-    std::unique_ptr<server::ApiServer> api;
-    std::string address;
-    std::unique_ptr<v1::KesslerService::Stub> stub;
     v1::Run run;
     std::vector<v1::RunEvent> events;
     v1::RunState final_state = v1::RUN_STATE_UNSPECIFIED;

@@ -17,6 +17,7 @@
 #include "server/api_server.hpp"
 #include "server/figures/snapshot_figures.hpp"
 #include "server/run_manager.hpp"
+#include "tests/service/in_process_service.hpp"
 #include "tests/service/service_harness.hpp"
 
 namespace kessler {
@@ -43,57 +44,20 @@ constexpr std::int64_t kExplosionStep = 6;
 
 class SnapshotEndToEnd : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { shared_ = new Shared(); }
+  static void SetUpTestSuite() { shared_ = new Shared(test::parsed_scenario(kScenario)); }
   static void TearDownTestSuite() {
     delete shared_;
     shared_ = nullptr;
   }
 
-  struct Shared {
-    Shared() {
-      if (parse_scenario(kScenario, scenario)) throw std::runtime_error("scenario");
-      FieldError error;
-      auto simulation = build_simulation(scenario, BuildOptions{}, &error);
-      if (!simulation) throw std::runtime_error(error.message());
-      const ObjectId target = simulation->population().id[0];
-      server::ManagerOptions options;
-      options.db_path = dir.path() + "/k.db";
-      options.adjust_config = [target](SimulationConfig& c) {
-        c.breakups.enabled = true;
-        ScheduledBreakup explosion;
-        explosion.step = kExplosionStep;
-        explosion.kind = BreakupKind::kExplosion;
-        explosion.object_ids = {target};
-        explosion.masses_kg = {800.0};
-        c.breakups.scheduled = {explosion};
-      };
-      manager = std::make_unique<server::RunManager>(options);
-      api = std::make_unique<server::ApiServer>(*manager, "127.0.0.1:0", 64 << 20);
-      address = "127.0.0.1:" + std::to_string(api->port());
-      stub = v1::KesslerService::NewStub(grpc::CreateChannel(address, grpc::InsecureChannelCredentials()));
-      v1::SubmitRunRequest submit;
-      *submit.mutable_scenario() = scenario;
-      grpc::ClientContext context;
-      if (!stub->SubmitRun(&context, submit, &run).ok()) throw std::runtime_error("submit");
-      grpc::ClientContext watch_context;
-      v1::WatchRunRequest request;
-      request.set_run_id(run.id());
-      auto reader = stub->WatchRun(&watch_context, request);
-      for (v1::RunEvent e; reader->Read(&e);)
-        if (e.has_state()) final_state = e.state().state();
-      if (!reader->Finish().ok()) throw std::runtime_error("watch");
+  struct Shared : test::InProcessService {
+    explicit Shared(const v1::Scenario& parsed)
+        : InProcessService(test::explode_at(test::first_object(parsed), kExplosionStep)), scenario(parsed) {
+      run = submit(scenario);
+      watch(run.id(), 0, true, &final_state);
       run = manager->get(run.id());
     }
-    ~Shared() {
-      api.reset();  // the server stops before the manager it serves
-      manager.reset();
-    }
-    TempDir dir;
     v1::Scenario scenario;
-    std::unique_ptr<server::RunManager> manager;
-    std::unique_ptr<server::ApiServer> api;
-    std::string address;
-    std::unique_ptr<v1::KesslerService::Stub> stub;
     v1::Run run;
     v1::RunState final_state = v1::RUN_STATE_UNSPECIFIED;
   };

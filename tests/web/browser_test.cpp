@@ -5,9 +5,11 @@
 #include <gtest/gtest.h>
 #include <zlib.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <set>
+#include <thread>
 
 #include "tests/service/service_harness.hpp"
 #include "tests/web/crossings.hpp"
@@ -144,12 +146,26 @@ class Browser : public ::testing::Test {
       httplib::Client client("127.0.0.1", http_port);
       auto r = client.Get("/api/runs/1/figures");
       if (r) figures = json::parse(r->body)["figures"];
+      // An ensemble of the same run (three seeds, the same passes), to its end.
+      test::write_text(dir.path() + "/ensemble.yaml",
+                       test::crossings_scenario() + "ensemble: {members: 3}\n");
+      ensemble_submitted =
+          cli(dir, "--server " + daemon.address() + " submit " + dir.path() + "/ensemble.yaml");
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+      while (std::chrono::steady_clock::now() < deadline) {
+        auto e = client.Get("/api/ensembles/1");
+        // uint64 fields are strings in protobuf's JSON.
+        if (e && e->status == 200 && json::parse(e->body).value("finished", "") == "3") break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      }
+      auto f = client.Get("/api/ensembles/1/figures");
+      if (f) ensemble_figures = json::parse(f->body)["figures"];
     }
     TempDir dir;
     test::Daemon daemon;
     int http_port = 0;
-    test::CliResult submitted, report;
-    json figures;
+    test::CliResult submitted, report, ensemble_submitted;
+    json figures, ensemble_figures;
   };
   void SetUp() override {
     if (find_chromium().empty())
@@ -184,6 +200,28 @@ TEST_F(Browser, TheDashboardsRunPageRendersEveryFigureAndTheConjunctions) {
             std::string::npos);  // the 4 passes at kappa <= 10, the collision one of them
   const std::string index = chromium(shared_->dir, "--dump-dom", base + "/");
   EXPECT_NE(index.find("<a href=\"/runs/1\">1</a>"), std::string::npos);
+}
+
+// The ensemble's page: its four figures drawn as the members' means over their 5-95 % bands.
+TEST_F(Browser, TheDashboardsEnsemblePageRendersItsFiguresWithBands) {
+  ASSERT_EQ(shared_->ensemble_submitted.exit_code, 0) << shared_->ensemble_submitted.err;
+  const std::string base = "http://127.0.0.1:" + std::to_string(shared_->http_port);
+  const std::string dom = chromium(shared_->dir, "--dump-dom", base + "/ensembles/1");
+  const json results = render_results(dom);
+  ASSERT_TRUE(results.is_object()) << dom.substr(0, 2000);
+  EXPECT_TRUE(results["done"].get<bool>());
+  EXPECT_TRUE(results["errors"].empty()) << results["errors"].dump();
+  ASSERT_EQ(shared_->ensemble_figures.size(), 4u) << shared_->ensemble_figures.dump();
+  ASSERT_EQ(results["figures"].size(), 4u) << results.dump();
+  // A band and a line per kappa series (1, 2, 5, 10); against kappa, one band, one line, a point each.
+  EXPECT_EQ(results["figures"]["conjunctions-over-time"], json({{"area", 4}, {"line", 4}}));
+  EXPECT_EQ(results["figures"]["conjunctions-vs-kappa"], json({{"area", 1}, {"line", 1}, {"symbol", 4}}));
+  std::set<std::string> types;
+  for (const json& f : shared_->ensemble_figures)
+    if (f["id"] == "objects-by-type")
+      for (const json& row : f["spec"]["layer"][1]["data"]["values"]) types.insert(row["type"]);
+  EXPECT_EQ(results["figures"]["objects-by-type"], json({{"area", 1}, {"line", types.size()}}));
+  EXPECT_NE(dom.find("3 of 3 members ended"), std::string::npos);
 }
 
 TEST_F(Browser, AScreenshotOfTheReportIsNotBlank) {

@@ -165,6 +165,16 @@ TEST(Figures, AnEnsembleGetsMeansWithBands) {
     last[row["kappa"].get<std::string>()] = row["n"].get<double>();
   EXPECT_EQ(last.at("kappa <= 1"), 1.0);
   EXPECT_EQ(last.at("kappa <= 10"), 4.0);
+  // The members have the same passes: their 5-95 % band is the mean itself, drawn under the lines.
+  const json& over_time = spec_of(figures, "conjunctions-over-time");
+  EXPECT_EQ(over_time["layer"][0]["mark"]["type"], "area");
+  EXPECT_EQ(over_time["layer"][1]["mark"]["type"], "line");
+  for (const json& row : over_time["data"]["values"]) {
+    EXPECT_EQ(row["p05"], row["n"]);
+    EXPECT_EQ(row["p95"], row["n"]);
+  }
+  for (const json& row : spec_of(figures, "conjunctions-vs-kappa")["data"]["values"])
+    EXPECT_EQ(row["p95"], row["n"]) << row.dump();
   const json& objects = spec_of(figures, "objects-by-type")["layer"];
   EXPECT_EQ(objects[0]["mark"]["type"], "area");  // the band
   EXPECT_EQ(objects[0]["data"]["values"].back()["p05"], 10.0);
