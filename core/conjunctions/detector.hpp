@@ -30,6 +30,12 @@ class ConjunctionDetector {
   // identical for any thread count.
   void scan(const Population& population, const StepEnds& step, std::vector<Encounter>& out);
 
+  // Walk only part `part` of `parts` of the grid (slots [S part / parts, S (part + 1) / parts) of the S
+  // slots, and oversized objects o with o % parts == part): the encounters of the parts' scans together
+  // are exactly those of a whole scan, each in one part (a candidate pair belongs to the slot of its
+  // first member). Default: part 0 of 1, the whole scan.
+  void set_share(std::size_t part, std::size_t parts);
+
   // Seconds of the last scan spent in the broad phase (grid build and candidate pairs, until the last
   // thread has its candidates) and the rest (narrow phase, merge, sort).
   double last_grid_s() const { return last_grid_s_; }
@@ -49,6 +55,7 @@ class ConjunctionDetector {
   // Whether the next scan tests candidates on hulls first: worth it where candidate pairs are many per
   // object (dense populations, long steps), decided from the last scan. Results never depend on it.
   bool use_hulls_ = false;
+  std::size_t share_part_ = 0, share_parts_ = 1;  // set_share
 
   // Narrow phase of one candidate pair (population indices); appends its encounters.
   void examine_pair(const Population& population, const StepEnds& step, std::size_t i, std::size_t j,
