@@ -6,6 +6,7 @@
 // Exit codes as `kessler run`: 0 finished, 1 failed or stopped early, 2 bad usage or scenario (on every
 // rank).
 #include <mpi.h>
+#include <omp.h>
 #include <sys/resource.h>
 
 #include <atomic>
@@ -134,6 +135,11 @@ int run_ranks(MpiOptions& o, distributed::RankTeam& team) {
     return kExitUsage;
   }
   LocalRunOptions& run = o.run;
+  // Every rank's scan must lay out the same grid, which depends on the team's size: the ranks take the
+  // smallest of their thread counts (--threads, else OpenMP's default on each node).
+  int threads = run.build.threads > 0 ? run.build.threads : omp_get_max_threads();
+  MPI_Allreduce(MPI_IN_PLACE, &threads, 1, MPI_INT, MPI_MIN, team.comm());
+  run.build.threads = threads;
   run.local = true;
   run.program = kProgram;
   run.prints = team.rank() == 0;

@@ -248,8 +248,11 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
       }
     }
     sharing_.record(own_slots, own_s, helped_slots, helped_s);
-    grid_.record_region_costs(cost.data(), team_size);
-    grid_.record_pass_costs(team_size);  // each thread's passes over its chunk, for the next chunks
+    // A shared scan's parts must lay out the same grid (set_share): no measured costs move its borders.
+    if (share_parts == 1) {
+      grid_.record_region_costs(cost.data(), team_size);
+      grid_.record_pass_costs(team_size);  // each thread's passes over its chunk, for the next chunks
+    }
   }
   const std::size_t first = out.size();
   out.reserve(first + total);

@@ -33,7 +33,9 @@ class ConjunctionDetector {
   // Walk only part `part` of `parts` of the grid (slots [S part / parts, S (part + 1) / parts) of the S
   // slots, and oversized objects o with o % parts == part): the encounters of the parts' scans together
   // are exactly those of a whole scan, each in one part (a candidate pair belongs to the slot of its
-  // first member). Default: part 0 of 1, the whole scan.
+  // first member). The parts' grids must be laid out alike: each part's detector scans the same steps
+  // on teams of the same size, and with parts > 1 no measured cost moves the grid's region borders or
+  // chunks (grid_balance.hpp; only the balance between threads suffers). Default: part 0 of 1.
   void set_share(std::size_t part, std::size_t parts);
 
   // Seconds of the last scan spent in the broad phase (grid build and candidate pairs, until the last

@@ -3,7 +3,7 @@
 # same event lines (encounters, burn-ups, breakups, launches, ...) in the same order and the same summary
 # fingerprint (events_digest, state_digest). Progress and summary lines carry wall-clock figures: they are
 # compared by their fingerprint alone.
-# Usage: mpi_fingerprints.sh KESSLER KESSLER_MPI MPIEXEC SCENARIO RANKS...
+# Usage: mpi_fingerprints.sh KESSLER KESSLER_MPI MPIEXEC SCENARIO RANKS... ($THREADS per rank, default 1)
 set -e
 kessler="$1"
 kessler_mpi="$2"
@@ -21,11 +21,12 @@ fingerprint() { tail -n 1 | grep -o '"events_digest":"[0-9a-f]*","state_digest":
 reference=$(fingerprint <"$dir/reference.jsonl")
 echo "kessler run --local:  $reference ($(grep -c '' "$dir/reference.jsonl") lines)"
 test -n "$reference"
+threads=${THREADS:-1}
 for ranks in "$@"; do
-  OMP_NUM_THREADS=1 "$mpiexec" -np "$ranks" "$kessler_mpi" "$scenario" --threads 1 --output json \
+  OMP_NUM_THREADS=$threads "$mpiexec" -np "$ranks" "$kessler_mpi" "$scenario" --threads "$threads" --output json \
     >"$dir/ranks-$ranks.jsonl"
   got=$(fingerprint <"$dir/ranks-$ranks.jsonl")
-  echo "kessler-mpi, $ranks ranks: $got"
+  echo "kessler-mpi, $ranks ranks of $threads threads: $got"
   test "$got" = "$reference"
   events <"$dir/reference.jsonl" >"$dir/reference.events"
   events <"$dir/ranks-$ranks.jsonl" >"$dir/ranks-$ranks.events"
