@@ -144,6 +144,9 @@ int run_ranks(MpiOptions& o, distributed::RankTeam& team) {
   run.program = kProgram;
   run.prints = team.rank() == 0;
   StopAgreement agreement(team, !run.checkpoint_dir.empty());
+  // Population snapshots are for the daemon's store; nothing here prints them (as in kessler run --local),
+  // and taking them is a pass over the whole population on every rank. They never change a result.
+  run.build.adjust_config = [](SimulationConfig& config) { config.snapshot_every_steps = 0; };
   run.build.adjust_parts = [&](const SimulationConfig& config, SimulationParts& parts) {
     auto shared = std::make_unique<distributed::DistributedPropagator>(std::move(parts.propagator), team);
     parts.propagator = std::make_unique<AgreeingPropagator>(std::move(shared), agreement);
