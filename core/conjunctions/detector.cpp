@@ -263,6 +263,7 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
   last_grid_s_ = t_grid - t_begin;
   last_narrow_s_ = t_end - t_grid;
   last_candidate_pairs_ = pairs;
+  last_team_size_ = team_size;
   // Writing the hulls costs about as much as gathering the states of 0.3 candidate pairs per object on
   // one thread. With more, most gathers read states another core has just written (several times
   // dearer), and the hulls pay from fewer pairs: 0.3 per object over the thread count.

@@ -44,6 +44,9 @@ class ConjunctionDetector {
   double last_narrow_s() const { return last_narrow_s_; }
   // Candidate pairs the broad phase produced in the last scan.
   std::size_t last_candidate_pairs() const { return last_candidate_pairs_; }
+  // The team OpenMP gave the last scan (1 below kParallelMinimumObjects): a shared scan's parts must
+  // have had the same (set_share).
+  std::size_t last_team_size() const { return last_team_size_; }
   // The broad phase's grid (its cell size and build counts, for benchmarks).
   const BroadPhaseGrid& grid() const { return grid_; }
 
@@ -54,6 +57,7 @@ class ConjunctionDetector {
   double last_grid_s_ = 0.0;
   double last_narrow_s_ = 0.0;
   std::size_t last_candidate_pairs_ = 0;
+  std::size_t last_team_size_ = 0;
   // Whether the next scan tests candidates on hulls first: worth it where candidate pairs are many per
   // object (dense populations, long steps), decided from the last scan. Results never depend on it.
   bool use_hulls_ = false;

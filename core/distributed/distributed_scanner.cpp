@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <type_traits>
 
 namespace kessler::distributed {
@@ -32,9 +33,23 @@ void DistributedScanner::scan(const Population& population, const StepEnds& step
   bytes_of_rank_.resize(ranks);
   displacements_.resize(ranks);
   int my_bytes = static_cast<int>(mine_.size() * sizeof(Encounter));
+  // Each rank's byte count, with the grid it walked a share of: the shares cover every slot once only
+  // if all ranks laid out the same grid (the same slot count, on teams of the same size).
+  const long long mine[3] = {my_bytes, static_cast<long long>(detector_.grid().slot_count()),
+                             static_cast<long long>(detector_.last_team_size())};
+  shapes_.resize(3 * ranks);
   {
     RankTeam::Timed timed(team_);
-    MPI_Allgather(&my_bytes, 1, MPI_INT, bytes_of_rank_.data(), 1, MPI_INT, team_.comm());
+    MPI_Allgather(mine, 3, MPI_LONG_LONG, shapes_.data(), 3, MPI_LONG_LONG, team_.comm());
+  }
+  for (std::size_t r = 0; r < ranks; ++r) {
+    bytes_of_rank_[r] = static_cast<int>(shapes_[3 * r]);
+    if (population.size() >= 2 && (shapes_[3 * r + 1] != mine[1] || shapes_[3 * r + 2] != mine[2]))
+      throw std::runtime_error("MPI rank " + std::to_string(r) + " laid out another grid (" +
+                               std::to_string(shapes_[3 * r + 1]) + " slots on " +
+                               std::to_string(shapes_[3 * r + 2]) + " threads, here " +
+                               std::to_string(mine[1]) + " on " + std::to_string(mine[2]) +
+                               "): every rank must scan on the same number of threads (--threads)");
   }
   std::size_t total_bytes = 0;
   for (std::size_t r = 0; r < ranks; ++r) {

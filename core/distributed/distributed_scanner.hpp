@@ -32,6 +32,7 @@ class DistributedScanner final : public EncounterScanner {
   ConjunctionDetector detector_;
   std::vector<Encounter> mine_;
   std::vector<int> bytes_of_rank_, displacements_;
+  std::vector<long long> shapes_;  // per rank: encounter bytes, grid slots, team size
   double compute_s_ = 0.0;
 };
 
