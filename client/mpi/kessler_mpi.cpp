@@ -43,6 +43,8 @@ class StopAgreement {
  public:
   StopAgreement(distributed::RankTeam& team, bool resumable) : team_(team), resumable_(resumable) {}
   void set_control(RunControl* control) { control_ = control; }
+  // Whether the ranks agreed to stop early (then all of them leave the loop at the same step).
+  bool stopped_together() const { return stopped_together_; }
   void agree() {
     if (!control_) return;
     int signals = g_signals.load();
@@ -50,6 +52,7 @@ class StopAgreement {
       distributed::RankTeam::Timed timed(team_);
       MPI_Allreduce(MPI_IN_PLACE, &signals, 1, MPI_INT, MPI_MAX, team_.comm());
     }
+    if (signals >= 1) stopped_together_ = true;
     if (signals >= 1 && resumable_) control_->stop_after_checkpoint = true;
     if (signals >= 2 || (signals >= 1 && !resumable_)) control_->cancel = true;
   }
@@ -57,6 +60,7 @@ class StopAgreement {
  private:
   distributed::RankTeam& team_;
   bool resumable_;
+  bool stopped_together_ = false;
   RunControl* control_ = nullptr;
 };
 
@@ -174,6 +178,10 @@ int run_ranks(MpiOptions& o, distributed::RankTeam& team) {
     }
   };
   const int exit = run_local(run, format);
+  // A run that failed or stopped on its own on one rank may leave others inside a collective call: end
+  // them all. (Failures inside the shared work are agreed on and fail every rank at the same call, but a
+  // failure of rank 0 alone, e.g. writing a checkpoint, is not.)
+  if (exit == kExitFailure && team.ranks() > 1 && !agreement.stopped_together()) MPI_Abort(team.comm(), exit);
   if (exit == kExitOk && o.timing) report_timing(team, loop, run.build.threads);
   return exit;
 }
@@ -238,8 +246,6 @@ int main(int argc, char** argv) {
     std::cout.flush();
     std::cout.rdbuf(out);
     std::cerr.rdbuf(err);
-    // A run that failed or stopped on one rank may leave others inside a collective call: end them all.
-    if (exit == kessler::cli::kExitFailure && team.ranks() > 1) MPI_Abort(MPI_COMM_WORLD, exit);
   }
   MPI_Finalize();
   return exit;
