@@ -13,6 +13,9 @@ configs="${4:-1x2 2x1}"
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+# Ranks waiting in a collective call yield their core (on a machine shared with other work a spinning rank
+# takes the core the rank it waits for needs). On dedicated cluster nodes, OMPI_MCA_mpi_yield_when_idle=0.
+export OMPI_MCA_mpi_yield_when_idle=${OMPI_MCA_mpi_yield_when_idle:-1}
 cat >"$dir/scenario.yaml" <<YAML
 name: mpi-scaling-${objects}
 start_epoch: "2022-01-01T00:00:00Z"
