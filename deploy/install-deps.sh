@@ -12,6 +12,7 @@ packages=(
   clang-format clang-tidy zlib1g-dev libssl-dev
   libsimdjson-dev libpugixml-dev
   nlohmann-json3-dev libcpp-httplib-dev
+  libopenmpi-dev openmpi-bin
   chromium chromium-driver
   clang-14 libfuzzer-14-dev
   nlohmann-json3-dev

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 #include <thread>
 
 #include "core/conjunctions/broad_phase_grid.hpp"
@@ -46,6 +47,14 @@ ConjunctionDetector::ConjunctionDetector(const ConjunctionSettings& settings, co
     : settings_(settings), grid_(grid) {
   // dt is not known here; any positive step checks everything else.
   if (auto problem = validate(settings, 1.0)) throw std::invalid_argument(*problem);
+}
+
+void ConjunctionDetector::set_share(std::size_t part, std::size_t parts) {
+  if (parts == 0 || part >= parts)
+    throw std::invalid_argument("ConjunctionDetector::set_share: part " + std::to_string(part) + " of " +
+                                std::to_string(parts));
+  share_part_ = part;
+  share_parts_ = parts;
 }
 
 std::optional<std::string> ConjunctionDetector::validate(const ConjunctionSettings& s, double dt_s) {
@@ -118,6 +127,7 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
 
   const int threads = n >= kParallelMinimumObjects ? omp_get_max_threads() : 1;
   const bool use_hulls = use_hulls_;
+  const std::size_t share_part = share_part_, share_parts = share_parts_;
   grid_.prepare(n, threads);
   grid_.set_separation_groups(population.separation_group.size() == n ? population.separation_group.data()
                                                                       : nullptr);
@@ -164,7 +174,11 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
         if (visit < team) continue;  // first round: come back to it
         wait_until([&] { return grid_.slots_sorted(owner, team); });
       }
-      const auto [first, last] = grid_.sorted_slots(owner, team);
+      // This detector's share of the slots (set_share): the owner's run cut to it.
+      const auto [run_first, run_last] = grid_.sorted_slots(owner, team);
+      const std::size_t slots = grid_.slot_count();
+      const std::size_t first = std::max(run_first, slots * share_part / share_parts);
+      const std::size_t last = std::max(first, std::min(run_last, slots * (share_part + 1) / share_parts));
       std::atomic<std::size_t>& claimed = walk_cursors_[owner].claimed;
       const std::size_t divisor = d == 0 ? 2 : 4;
       const double visit_start = omp_get_wtime();
@@ -187,7 +201,8 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
     const std::int64_t oversized = static_cast<std::int64_t>(grid_.oversized_count());
 #pragma omp for schedule(dynamic, 1) nowait
     for (std::int64_t o = 0; o < oversized; ++o)
-      grid_.collect_oversized_pairs(static_cast<std::size_t>(o), static_cast<std::size_t>(o) + 1, mine);
+      if (static_cast<std::size_t>(o) % share_parts == share_part)
+        grid_.collect_oversized_pairs(static_cast<std::size_t>(o), static_cast<std::size_t>(o) + 1, mine);
     per_thread_[t].collected_at = omp_get_wtime();
     if (timeline) timeline->mark(t, kDetWalk);
     std::vector<Encounter>& found = per_thread_[t].events;
@@ -233,8 +248,11 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
       }
     }
     sharing_.record(own_slots, own_s, helped_slots, helped_s);
-    grid_.record_region_costs(cost.data(), team_size);
-    grid_.record_pass_costs(team_size);  // each thread's passes over its chunk, for the next chunks
+    // A shared scan's parts must lay out the same grid (set_share): no measured costs move its borders.
+    if (share_parts == 1) {
+      grid_.record_region_costs(cost.data(), team_size);
+      grid_.record_pass_costs(team_size);  // each thread's passes over its chunk, for the next chunks
+    }
   }
   const std::size_t first = out.size();
   out.reserve(first + total);
@@ -245,6 +263,7 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
   last_grid_s_ = t_grid - t_begin;
   last_narrow_s_ = t_end - t_grid;
   last_candidate_pairs_ = pairs;
+  last_team_size_ = team_size;
   // Writing the hulls costs about as much as gathering the states of 0.3 candidate pairs per object on
   // one thread. With more, most gathers read states another core has just written (several times
   // dearer), and the hulls pay from fewer pairs: 0.3 per object over the thread count.

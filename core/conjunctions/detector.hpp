@@ -30,12 +30,23 @@ class ConjunctionDetector {
   // identical for any thread count.
   void scan(const Population& population, const StepEnds& step, std::vector<Encounter>& out);
 
+  // Walk only part `part` of `parts` of the grid (slots [S part / parts, S (part + 1) / parts) of the S
+  // slots, and oversized objects o with o % parts == part): the encounters of the parts' scans together
+  // are exactly those of a whole scan, each in one part (a candidate pair belongs to the slot of its
+  // first member). The parts' grids must be laid out alike: each part's detector scans the same steps
+  // on teams of the same size, and with parts > 1 no measured cost moves the grid's region borders or
+  // chunks (grid_balance.hpp; only the balance between threads suffers). Default: part 0 of 1.
+  void set_share(std::size_t part, std::size_t parts);
+
   // Seconds of the last scan spent in the broad phase (grid build and candidate pairs, until the last
   // thread has its candidates) and the rest (narrow phase, merge, sort).
   double last_grid_s() const { return last_grid_s_; }
   double last_narrow_s() const { return last_narrow_s_; }
   // Candidate pairs the broad phase produced in the last scan.
   std::size_t last_candidate_pairs() const { return last_candidate_pairs_; }
+  // The team OpenMP gave the last scan (1 below kParallelMinimumObjects): a shared scan's parts must
+  // have had the same (set_share).
+  std::size_t last_team_size() const { return last_team_size_; }
   // The broad phase's grid (its cell size and build counts, for benchmarks).
   const BroadPhaseGrid& grid() const { return grid_; }
 
@@ -46,9 +57,11 @@ class ConjunctionDetector {
   double last_grid_s_ = 0.0;
   double last_narrow_s_ = 0.0;
   std::size_t last_candidate_pairs_ = 0;
+  std::size_t last_team_size_ = 0;
   // Whether the next scan tests candidates on hulls first: worth it where candidate pairs are many per
   // object (dense populations, long steps), decided from the last scan. Results never depend on it.
   bool use_hulls_ = false;
+  std::size_t share_part_ = 0, share_parts_ = 1;  // set_share
 
   // Narrow phase of one candidate pair (population indices); appends its encounters.
   void examine_pair(const Population& population, const StepEnds& step, std::size_t i, std::size_t j,

@@ -238,6 +238,7 @@ std::unique_ptr<Simulation> build_simulation(const v1::Scenario& scenario, const
   if (auto e = check_breakups_against_population(config.breakups, population)) return fail(*e);
   SimulationParts parts;
   if (auto e = make_parts(scenario, config, &loaded, parts)) return fail(*e);
+  if (options.adjust_parts) options.adjust_parts(config, parts);
   return std::make_unique<Simulation>(config, std::move(population), std::move(parts));
 }
 
@@ -258,6 +259,7 @@ std::unique_ptr<Simulation> resume_simulation(const v1::Scenario& scenario, cons
     if (auto e = load_guarded(scenario, config, options, loaded)) return fail(*e);
   SimulationParts parts;
   if (auto e = make_parts(scenario, config, &loaded, parts)) return fail(*e);
+  if (options.adjust_parts) options.adjust_parts(config, parts);
   try {
     return Simulation::resume(config, checkpoint, std::move(parts));
   } catch (const std::exception& e) {

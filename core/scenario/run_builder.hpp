@@ -50,6 +50,9 @@ struct BuildOptions {
   // Applied to the core configuration after the scenario's, for fresh and resumed runs alike (hosts
   // and tests: settings no scenario field reaches). Empty: none.
   std::function<void(SimulationConfig&)> adjust_config;
+  // Applied to the parts built for the scenario (propagator, scanner), for fresh and resumed runs alike:
+  // a host may wrap or replace them (core/distributed/ shares their work among MPI ranks). Empty: none.
+  std::function<void(const SimulationConfig&, SimulationParts&)> adjust_parts;
 };
 
 // The run the scenario describes: validates, ingests the population, builds the propagator.

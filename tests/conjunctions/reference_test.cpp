@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cstring>
 #include <iostream>
 #include <map>
@@ -165,6 +166,49 @@ TEST(Reference, UnequalChunksGiveTheSameEvents) {
       ASSERT_TRUE(bitwise_equal(events[k], one[k])) << threads << " threads: " << k;
   }
   omp_set_num_threads(saved);
+}
+
+// A scan shared out in parts (ConjunctionDetector::set_share, as the MPI ranks of core/distributed/ share
+// it): the parts' encounters together, in canonical order, are bitwise the whole scan's, each found once,
+// with one thread per part and with teams of 2 and 3 threads (whose grids have several regions, whose
+// borders the parts must place alike).
+TEST(Reference, SharedScanPartsTogetherGiveTheWholeScan) {
+  const RandomLeo& scenario = random_leo(false);
+  const std::vector<StateArrays> first(scenario.snaps.begin(), scenario.snaps.begin() + 41);
+  ConjunctionSettings s;
+  s.screening_distance_m = 20e3;
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(2);
+  const auto whole = testing::run_detector(scenario.population, first, kDt, s);
+  ASSERT_GT(whole.size(), 20u);
+  for (int threads : {1, 2, 3}) {
+    omp_set_num_threads(threads);
+    for (std::size_t parts : {2u, 3u, 4u}) {
+      std::vector<Encounter> together;
+      std::size_t parts_with_events = 0;
+      for (std::size_t part = 0; part < parts; ++part) {
+        ConjunctionDetector detector(s);
+        detector.set_share(part, parts);
+        std::vector<Encounter> mine;
+        for (std::size_t k = 0; k + 1 < first.size(); ++k) {
+          const StepEnds step{static_cast<double>(k) * kDt, kDt, &first[k], &first[k + 1]};
+          detector.scan(scenario.population, step, mine);
+        }
+        parts_with_events += mine.empty() ? 0 : 1;
+        together.insert(together.end(), mine.begin(), mine.end());
+      }
+      std::sort(together.begin(), together.end(), canonical_less);
+      EXPECT_GE(parts_with_events, 2u) << parts << " parts: the work should be shared";
+      ASSERT_EQ(together.size(), whole.size()) << parts << " parts of " << threads << " threads";
+      for (std::size_t k = 0; k < whole.size(); ++k)
+        ASSERT_TRUE(bitwise_equal(together[k], whole[k]))
+            << parts << " parts of " << threads << " threads: " << k;
+    }
+  }
+  omp_set_num_threads(saved);
+  ConjunctionDetector detector(s);
+  EXPECT_THROW(detector.set_share(2, 2), std::invalid_argument);
+  EXPECT_THROW(detector.set_share(0, 0), std::invalid_argument);
 }
 
 TEST(Reference, SixteenAndTwentyThreadsMatchOneOnTheFirstSteps) {
