@@ -8,8 +8,10 @@
 #include <mpi.h>
 #include <omp.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
@@ -17,12 +19,14 @@
 #include <sstream>
 #include <streambuf>
 #include <string>
+#include <thread>
 
 #include "client/commands/local_run.hpp"
 #include "core/distributed/decomposition.hpp"
 #include "core/distributed/distributed_propagator.hpp"
 #include "core/distributed/distributed_scanner.hpp"
 #include "core/distributed/rank_team.hpp"
+#include "core/simulation/event_stream.hpp"
 
 namespace kessler::cli {
 namespace {
@@ -93,7 +97,32 @@ struct MpiOptions {
   LocalRunOptions run;
   std::string output;
   bool timing = false;
+  bool event_stream = false;
 };
+
+// --event-stream: each line on stdin counts as a signal (kesslerd stops or cancels the run this way:
+// mpirun passes its stdin on to rank 0, srun to every rank, while neither passes SIGTERM on at once).
+// The end of stdin changes nothing.
+void count_stop_lines() {
+  std::thread([] {
+    char c = 0;
+    for (;;) {
+      ssize_t n = ::read(0, &c, 1);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return;
+      if (c == '\n') g_signals.fetch_add(1);
+    }
+  }).detach();
+}
+
+// --event-stream on rank 0: the records go to what was stdout, and anything else printed to stdout
+// goes to stderr, so that nothing but records reaches the stream.
+int take_stdout_for_records() {
+  std::cout.flush();
+  const int fd = ::dup(1);
+  ::dup2(2, 1);
+  return fd;
+}
 
 // What the loop took on this rank, for --timing.
 struct LoopFigures {
@@ -147,7 +176,17 @@ int run_ranks(MpiOptions& o, distributed::RankTeam& team) {
   run.local = true;
   run.program = kProgram;
   run.prints = team.rank() == 0;
-  StopAgreement agreement(team, !run.checkpoint_dir.empty());
+  std::unique_ptr<EventStreamWriter> writer;
+  if (o.event_stream) {
+    // Every rank takes the same checkpoints (a stop comes after one); rank 0 writes the records.
+    writer = std::make_unique<EventStreamWriter>(team.rank() == 0 ? take_stdout_for_records() : -1);
+    run.sink = writer.get();
+    run.on_summary = [&](const RunSummary& summary) { writer->write_summary(summary); };
+    run.scenario_binary = true;
+    run.checkpoint_dir.clear();
+    count_stop_lines();
+  }
+  StopAgreement agreement(team, !run.checkpoint_dir.empty() || o.event_stream);
   // Population snapshots are for the daemon's store; nothing here prints them (as in kessler run --local),
   // and taking them is a pass over the whole population on every rank. They never change a result.
   run.build.adjust_config = [](SimulationConfig& config) { config.snapshot_every_steps = 0; };
@@ -208,6 +247,10 @@ int parse_and_run(int argc, char** argv, distributed::RankTeam& team) {
   app.add_option("--traffic-plans", o.run.build.traffic_dir, "where the shipped launch plans live")
       ->option_text("DIR");
   app.add_option("--output,-o", o.output, "table (default) or json: as kessler run --local prints");
+  app.add_flag("--event-stream", o.event_stream,
+               "for kesslerd --mpi-launcher: SCENARIO is a serialized kessler.v1.Scenario; rank 0 writes the "
+               "run's events, checkpoints and end as binary records on stdout (core/simulation/"
+               "event_stream.hpp); a line on stdin stops the run after a checkpoint, a second cancels it");
   app.add_flag("--timing", o.timing,
                "after the run, one JSON line on stderr: ns per object-step, MPI share, peak memory per rank");
   app.footer(
