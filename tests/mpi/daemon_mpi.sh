@@ -3,6 +3,8 @@
 # fingerprint (events_digest, state_digest) and the stored conjunctions of `kessler run --local`; a job
 # that refuses the run (more ranks than objects) fails the run with kessler-mpi's message; a cancel
 # reaches the ranks; a rank killed mid-run fails the run with the job's end named.
+# A daemon stopped mid-run leaves the run resumable: the next one ends it with the fingerprint of the run
+# without MPI.
 # Usage: daemon_mpi.sh KESSLER KESSLERD KESSLER_MPI MPIEXEC SCENARIO LONG_SCENARIO
 set -e
 kessler="$1"
@@ -21,17 +23,29 @@ trap cleanup EXIT
 export OMPI_MCA_mpi_yield_when_idle=1 OMP_NUM_THREADS=1
 fingerprint() { tail -n 1 | grep -o '"events_digest":"[0-9a-f]*","state_digest":"[0-9a-f]*"'; }
 
-"$kesslerd" --db "$dir/k.db" --listen 127.0.0.1:0 --port-file "$dir/port" --threads 1 \
-  --mpi-launcher "$mpiexec --oversubscribe --allow-run-as-root -np 2" --mpi-program "$kessler_mpi" \
-  --mpi-work-dir "$dir" 2>"$dir/daemon.log" &
-daemon=$!
-tries=0
-until test -s "$dir/port"; do
-  tries=$((tries + 1))
-  test $tries -lt 300 || { echo "kesslerd did not start"; cat "$dir/daemon.log"; exit 1; }
-  sleep 0.1
-done
-export KESSLER_SERVER="127.0.0.1:$(cat "$dir/port")"
+start_daemon() {
+  rm -f "$dir/port"
+  "$kesslerd" --db "$dir/k.db" --listen 127.0.0.1:0 --port-file "$dir/port" --threads 1 \
+    --mpi-launcher "$mpiexec --oversubscribe --allow-run-as-root -np 2" --mpi-program "$kessler_mpi" \
+    --mpi-work-dir "$dir" 2>>"$dir/daemon.log" &
+  daemon=$!
+  tries=0
+  until test -s "$dir/port"; do
+    tries=$((tries + 1))
+    test $tries -lt 300 || { echo "kesslerd did not start"; cat "$dir/daemon.log"; exit 1; }
+    sleep 0.1
+  done
+  export KESSLER_SERVER="127.0.0.1:$(cat "$dir/port")"
+}
+wait_running() {
+  tries=0
+  until "$kessler" show "$1" --output json | head -n 1 | grep -q '"RUN_STATE_RUNNING"'; do
+    tries=$((tries + 1))
+    test $tries -lt 600 || { echo "run $1 did not start"; exit 1; }
+    sleep 0.1
+  done
+}
+start_daemon
 
 # 1. The fingerprint and the stored conjunctions of the run without MPI.
 "$kessler" run "$scenario" --local --threads 1 --output json >"$dir/local.jsonl"
@@ -61,12 +75,7 @@ grep -q '2 MPI ranks for 1 objects' "$dir/one.jsonl"
 
 # 3. A cancel stops the ranks: the run ends cancelled and the job's processes are gone.
 run=$("$kessler" submit "$long_scenario" --output json | grep -o '"run_id": *[0-9]*' | grep -o '[0-9]*$')
-tries=0
-until "$kessler" show "$run" --output json | head -n 1 | grep -q '"RUN_STATE_RUNNING"'; do
-  tries=$((tries + 1))
-  test $tries -lt 600 || { echo "the run did not start"; exit 1; }
-  sleep 0.1
-done
+wait_running "$run"
 sleep 1
 "$kessler" cancel "$run" >/dev/null
 tries=0
@@ -97,4 +106,21 @@ tail -n 1 "$dir/killed.jsonl"
 test "$code" -eq 1
 grep -q 'the MPI job ended without the run' "$dir/killed.jsonl"
 test -z "$(pgrep -P "$daemon")"
+
+# 5. The daemon stopped mid-run (SIGTERM): the ranks stop after a checkpoint, the run stays resumable,
+# and the next daemon resumes it from the stored checkpoint to the fingerprint of the run without MPI.
+run=$("$kessler" submit "$long_scenario" --output json | grep -o '"run_id": *[0-9]*' | grep -o '[0-9]*$')
+wait_running "$run"
+sleep 2
+kill -TERM "$daemon"
+wait "$daemon"
+daemon=""
+start_daemon
+"$kessler" watch "$run" --output json >"$dir/resumed.jsonl"
+resumed=$(fingerprint <"$dir/resumed.jsonl")
+whole=$("$kessler" run "$long_scenario" --local --threads 1 --output json | fingerprint)
+echo "resumed by the next daemon: $resumed"
+echo "kessler run --local:        $whole"
+test -n "$whole"
+test "$resumed" = "$whole"
 echo "ok"
