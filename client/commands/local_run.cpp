@@ -182,7 +182,9 @@ std::optional<int> prepare(const LocalRunOptions& o, v1::Scenario& scenario) {
               << ": add --local to run in this process (use 'kessler submit' to run on kesslerd)\n";
     return kExitUsage;
   }
-  if (o.scenario_binary) {
+  if (o.scenario) {
+    scenario = *o.scenario;
+  } else if (o.scenario_binary) {
     std::ifstream in(o.scenario_path, std::ios::binary);
     if (!in || !scenario.ParseFromIstream(&in)) {
       std::cerr << o.program << ": " << o.scenario_path << ": not a serialized kessler.v1.Scenario\n";
@@ -213,7 +215,7 @@ std::optional<int> prepare(const LocalRunOptions& o, v1::Scenario& scenario) {
 std::unique_ptr<Simulation> build(const LocalRunOptions& o, const v1::Scenario& scenario,
                                   std::optional<IngestReport>& ingest) {
   BuildOptions options = o.build;
-  options.checkpoints = !o.checkpoint_dir.empty() || o.sink;
+  options.checkpoints = !o.checkpoint_dir.empty() || o.sink_checkpoints;
   FieldError error;
   std::unique_ptr<Simulation> sim;
   if (!o.resume_path.empty()) {

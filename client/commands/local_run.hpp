@@ -31,6 +31,10 @@ struct LocalRunOptions {
   std::function<void(const RunSummary&)> on_summary;
   // scenario_path holds a serialized kessler.v1.Scenario (as kesslerd writes it), not YAML or JSON.
   bool scenario_binary = false;
+  // The scenario itself, read already (an ensemble's member); scenario_path then only names it.
+  const v1::Scenario* scenario = nullptr;
+  // Checkpoints are taken for the sink (a run resumable without a checkpoint directory).
+  bool sink_checkpoints = false;
 };
 
 // Runs o.scenario_path (o.local must be set) and returns the exit code: 0 finished, 1 failed or stopped

@@ -22,6 +22,7 @@
 #include <thread>
 
 #include "client/commands/local_run.hpp"
+#include "client/mpi/mpi_ensemble.hpp"
 #include "core/distributed/decomposition.hpp"
 #include "core/distributed/distributed_propagator.hpp"
 #include "core/distributed/distributed_scanner.hpp"
@@ -98,6 +99,7 @@ struct MpiOptions {
   std::string output;
   bool timing = false;
   bool event_stream = false;
+  int ranks_per_member = 0;
 };
 
 // --event-stream: each line on stdin counts as a signal (kesslerd stops or cancels the run this way:
@@ -181,6 +183,7 @@ int run_ranks(MpiOptions& o, distributed::RankTeam& team) {
     // Every rank takes the same checkpoints (a stop comes after one); rank 0 writes the records.
     writer = std::make_unique<EventStreamWriter>(team.rank() == 0 ? take_stdout_for_records() : -1);
     run.sink = writer.get();
+    run.sink_checkpoints = true;
     run.on_summary = [&](const RunSummary& summary) { writer->write_summary(summary); };
     run.scenario_binary = true;
     run.checkpoint_dir.clear();
@@ -225,6 +228,27 @@ int run_ranks(MpiOptions& o, distributed::RankTeam& team) {
   return exit;
 }
 
+// A scenario with an ensemble runs its members over groups of ranks (mpi_ensemble.hpp); any other, or
+// one that cannot be read (run_ranks says why), runs on the whole team.
+int run_maybe_ensemble(MpiOptions& o, distributed::RankTeam& team) {
+  v1::Scenario scenario;
+  if (o.event_stream || load_scenario_file(o.run.scenario_path, scenario) || !scenario.has_ensemble())
+    return run_ranks(o, team);
+  if (!o.run.checkpoint_dir.empty() || !o.run.resume_path.empty() || o.timing) {
+    std::cerr << kProgram << ": " << o.run.scenario_path
+              << ": an ensemble runs without --checkpoint-dir, --resume and --timing\n";
+    return kExitUsage;
+  }
+  o.run.program = kProgram;
+  EnsembleOptions ensemble{o.ranks_per_member, o.output == "json"};
+  return run_ensemble(o.run, scenario, ensemble, team,
+                      [&](LocalRunOptions& run, distributed::RankTeam& group) {
+                        MpiOptions member;
+                        member.run = run;
+                        return run_ranks(member, group);
+                      });
+}
+
 int parse_and_run(int argc, char** argv, distributed::RankTeam& team) {
   MpiOptions o;
   CLI::App app{"kessler-mpi: one scenario run shared out among MPI ranks (mpirun -np R kessler-mpi SCENARIO)",
@@ -251,6 +275,11 @@ int parse_and_run(int argc, char** argv, distributed::RankTeam& team) {
                "for kesslerd --mpi-launcher: SCENARIO is a serialized kessler.v1.Scenario; rank 0 writes the "
                "run's events, checkpoints and end as binary records on stdout (core/simulation/"
                "event_stream.hpp); a line on stdin stops the run after a checkpoint, a second cancels it");
+  app.add_option("--ranks-per-member", o.ranks_per_member,
+                 "a scenario with ensemble.members N: ranks per member (default: ranks / N, at least 1); "
+                 "the members spread over the groups, member k with seed + k")
+      ->option_text("K")
+      ->check(CLI::Range(1, 1 << 20));
   app.add_flag("--timing", o.timing,
                "after the run, one JSON line on stderr: ns per object-step, MPI share, peak memory per rank");
   app.footer(
@@ -264,7 +293,7 @@ int parse_and_run(int argc, char** argv, distributed::RankTeam& team) {
     std::cerr << kProgram << ": " << e.what() << " (see " << kProgram << " --help)\n";
     return kExitUsage;
   }
-  return run_ranks(o, team);
+  return run_maybe_ensemble(o, team);
 }
 
 }  // namespace
