@@ -3,8 +3,9 @@
 // table and the same summary, bit for bit the same events and fingerprints for any rank and thread
 // count. Every rank runs the whole loop on the whole population; propagation and the conjunction scan
 // are shared out among them (core/distributed/README.md). Rank 0 alone prints and writes checkpoints.
-// Exit codes as `kessler run`: 0 finished, 1 failed or stopped early, 2 bad usage or scenario (on every
-// rank).
+// A scenario with an ensemble runs its members over groups of ranks (mpi_ensemble.hpp); --event-stream
+// hands the run to kesslerd (server/mpi_launch.hpp). Exit codes as `kessler run`: 0 finished, 1 failed
+// or stopped early, 2 bad usage or scenario (on every rank).
 #include <mpi.h>
 #include <omp.h>
 #include <sys/resource.h>
