@@ -46,7 +46,7 @@ std::string tail_of(const fs::path& path, std::size_t max_bytes) {
   std::ostringstream all;
   all << in.rdbuf();
   std::string text = all.str();
-  if (text.size() > max_bytes) text = "..." + text.substr(text.size() - max_bytes);
+  if (text.size() > max_bytes) text.replace(0, text.size() - max_bytes, "...");
   while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
   return text;
 }

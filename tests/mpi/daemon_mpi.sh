@@ -4,7 +4,7 @@
 # that refuses the run (more ranks than objects) fails the run with kessler-mpi's message; a cancel
 # reaches the ranks; a rank killed mid-run fails the run with the job's end named.
 # A daemon stopped mid-run leaves the run resumable: the next one ends it with the fingerprint of the run
-# without MPI.
+# without MPI. Bad --mpi-* flags: exit 2 naming the flag.
 # Usage: daemon_mpi.sh KESSLER KESSLERD KESSLER_MPI MPIEXEC SCENARIO LONG_SCENARIO
 set -e
 kessler="$1"
@@ -45,6 +45,22 @@ wait_running() {
     sleep 0.1
   done
 }
+# 0. Bad flags: exit 2 with the flag named.
+bad_flags() {  # EXPECTED_MESSAGE FLAGS...
+  expected="$1"
+  shift
+  code=0
+  out=$("$kesslerd" --db "$dir/never.db" "$@" 2>&1) || code=$?
+  echo "$out"
+  test "$code" -eq 2
+  echo "$out" | grep -q -- "$expected"
+}
+bad_flags '--mpi-launcher: an unclosed "' --mpi-launcher 'mpirun "-np'
+bad_flags '--mpi-launcher: no launcher command' --mpi-launcher ''
+bad_flags "--mpi-program: $dir/none is not an" --mpi-launcher mpirun --mpi-program "$dir/none"
+bad_flags '--mpi-program and --mpi-work-dir need --mpi-launcher' --mpi-work-dir "$dir"
+test ! -e "$dir/never.db"
+
 start_daemon
 
 # 1. The fingerprint and the stored conjunctions of the run without MPI.
