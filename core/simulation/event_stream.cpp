@@ -19,6 +19,7 @@ enum Kind : std::uint8_t {
   kCheckpoint,
   kSummary,
   kFailed,
+  kSnapshot,
 };
 
 // Plain structs go over as their bytes: the same build reads them.
@@ -190,6 +191,20 @@ void EventStreamWriter::on_checkpoint(std::uint64_t last_seq, std::int64_t step,
   write_record(kCheckpoint, Out().put(last_seq).put(step).put_string(bytes).bytes());
 }
 
+// Every column of a snapshot, once, in one order: f(column).
+template <class S, class F>
+void for_each_column(S& s, F&& f) {
+  f(s.id), f(s.type), f(s.status), f(s.radius_m), f(s.mass_kg), f(s.semi_major_axis_m), f(s.eccentricity);
+  f(s.inclination_rad), f(s.raan_rad), f(s.argument_of_perigee_rad), f(s.mean_anomaly_rad);
+}
+
+void EventStreamWriter::on_snapshot(const std::shared_ptr<const PopulationSnapshot>& snapshot) {
+  Out out;
+  out.put(snapshot->step).put(snapshot->sim_time_s);
+  for_each_column(*snapshot, [&](const auto& column) { out.put_vector(column); });
+  write_record(kSnapshot, out.bytes());
+}
+
 void EventStreamWriter::on_failed(const std::string& reason) {
   write_record(kFailed, Out().put_string(reason).bytes());
 }
@@ -270,6 +285,13 @@ RunSummary replay_event_stream(int fd, EventSink& sink, const std::function<std:
       throw std::runtime_error(failure);
     }
     In in(payload);
+    if (kind == kSnapshot) {
+      auto snapshot = std::make_shared<PopulationSnapshot>();
+      in.get(snapshot->step).get(snapshot->sim_time_s);
+      for_each_column(*snapshot, [&](auto& column) { in.get_vector(column); });
+      sink.on_snapshot(snapshot);
+      continue;
+    }
     if (kind == kSummary) {
       RunSummary summary = get_summary(in);
       if (!summary.stopped_at_checkpoint) sink.on_finished(summary);

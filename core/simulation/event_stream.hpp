@@ -25,6 +25,7 @@ class EventStreamWriter final : public EventSink {
   void on_breakup(std::uint64_t seq, const BreakupReport& breakup) override;
   void on_lifecycle(std::uint64_t seq, const LifecycleReport& event) override;
   void on_checkpoint(std::uint64_t last_seq, std::int64_t step, const std::string& bytes) override;
+  void on_snapshot(const std::shared_ptr<const PopulationSnapshot>& snapshot) override;
   // The summary record carries the end (write_summary), also for a stop at a checkpoint, which has no
   // on_finished.
   void on_finished(const RunSummary&) override {}

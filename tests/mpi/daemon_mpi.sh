@@ -1,6 +1,7 @@
 #!/bin/sh
 # kesslerd --mpi-launcher: a run submitted to the daemon and computed by an MPI job of 2 ranks has the
-# fingerprint (events_digest, state_digest) and the stored conjunctions of `kessler run --local`; a job
+# fingerprint (events_digest, state_digest) and the stored conjunctions of `kessler run --local`, and
+# the population snapshots a daemon without MPI stores; a job
 # that refuses the run (more ranks than objects) fails the run with kessler-mpi's message; a cancel
 # reaches the ranks; a rank killed mid-run fails the run with the job's end named.
 # A daemon stopped mid-run leaves the run resumable: the next one ends it with the fingerprint of the run
@@ -80,6 +81,30 @@ stored=$("$kessler" conjunctions "$run" --output json | grep -o '"seq":' | wc -l
 echo "stored conjunctions:         $stored"
 test "$stored" -eq "$local_conjunctions"
 test "$(ls "$dir" | grep -c kesslerd-mpi-)" -eq 0  # the run's directory is gone
+# The population snapshots the ranks took are those a daemon without MPI stores.
+"$kessler" snapshot "$run" --list --output json >"$dir/mpi-snapshots"
+"$kessler" snapshot "$run" --output csv >"$dir/mpi-newest.csv"
+plain_server=$KESSLER_SERVER
+"$kesslerd" --db "$dir/plain.db" --listen 127.0.0.1:0 --port-file "$dir/plain-port" --threads 1 \
+  2>>"$dir/daemon.log" &
+plain=$!
+tries=0
+until test -s "$dir/plain-port"; do
+  tries=$((tries + 1))
+  test $tries -lt 300 || { echo "the second kesslerd did not start"; exit 1; }
+  sleep 0.1
+done
+export KESSLER_SERVER="127.0.0.1:$(cat "$dir/plain-port")"
+plain_run=$("$kessler" submit "$scenario" --watch --output json | tail -n 1 | sed 's/.*"run_id":\([0-9]*\).*/\1/')
+"$kessler" snapshot "$plain_run" --list --output json >"$dir/plain-snapshots"
+"$kessler" snapshot "$plain_run" --output csv >"$dir/plain-newest.csv"
+kill "$plain"
+wait "$plain" || true
+export KESSLER_SERVER="$plain_server"
+echo "snapshots: $(grep -o '"step"' "$dir/mpi-snapshots" | wc -l), newest $(wc -l <"$dir/mpi-newest.csv") rows"
+test "$(wc -l <"$dir/mpi-newest.csv")" -gt 1
+cmp "$dir/mpi-snapshots" "$dir/plain-snapshots"
+cmp "$dir/mpi-newest.csv" "$dir/plain-newest.csv"
 
 # 2. More ranks than objects: the run fails with kessler-mpi's message.
 sed 's/objects: [0-9]*/objects: 1/' "$scenario" >"$dir/one.yaml"
