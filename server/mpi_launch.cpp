@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
@@ -261,7 +262,14 @@ RunSummary run_on_ranks(const MpiLaunch& launch, const RanksRun& run, EventSink&
   const fs::path stderr_path = dir / "stderr.log";
   Job job;
   try {
-    job = start_job(command_of(launch, run, dir), stderr_path);
+    const std::vector<std::string> words = command_of(launch, run, dir);
+    std::string line;
+    for (const std::string& w : words) line += (line.empty() ? "" : " ") + w;
+    std::cerr << "kesslerd: run " << run.run_id
+              << (run.checkpoint ? " from the checkpoint at step " + std::to_string(run.checkpoint_step)
+                                 : std::string())
+              << ": MPI job: " << line << std::endl;
+    job = start_job(words, stderr_path);
   } catch (const std::exception& e) {
     sink.on_failed(e.what());
     throw;

@@ -31,10 +31,12 @@ std::optional<std::vector<std::string>> split_launcher(const std::string& line, 
 std::string default_mpi_program();
 
 struct RanksRun {
+  std::int64_t run_id = 0;  // for the daemon's log line
   const v1::Scenario* scenario = nullptr;
   const std::string* checkpoint = nullptr;  // resume from these bytes; null: a fresh run
-  int threads = 0;                          // per rank; 0: OpenMP's default
-  std::string datasets_dir, traffic_dir;    // empty: kessler-mpi's defaults
+  std::int64_t checkpoint_step = 0;
+  int threads = 0;                        // per rank; 0: OpenMP's default
+  std::string datasets_dir, traffic_dir;  // empty: kessler-mpi's defaults
 };
 
 // Runs `run` on the MPI job and hands its events to `sink` as Simulation::run would, returning the

@@ -567,8 +567,9 @@ void RunManager::execute_run(std::int64_t run_id, RunControl& control) {
       summary = simulation->run(limited, control);
     } else {  // built above for its checks, ingest and names; the ranks compute it
       simulation.reset();
-      RanksRun ranks{&run->scenario(), checkpoint ? &checkpoint->bytes : nullptr, run->threads(),
-                     options_.datasets_dir, options_.traffic_dir};
+      RanksRun ranks{
+          run_id, &run->scenario(), nullptr, 0, run->threads(), options_.datasets_dir, options_.traffic_dir};
+      if (checkpoint) ranks.checkpoint = &checkpoint->bytes, ranks.checkpoint_step = checkpoint->step;
       summary = run_on_ranks(options_.mpi, ranks, limited, control);
     }
   } catch (const std::exception& e) {

@@ -158,6 +158,8 @@ wait "$daemon"
 daemon=""
 start_daemon
 "$kessler" watch "$run" --output json >"$dir/resumed.jsonl"
+grep "run $run" "$dir/daemon.log"
+grep -q "run $run from the checkpoint at step [1-9][0-9]*: MPI job: .*--resume" "$dir/daemon.log"
 resumed=$(fingerprint <"$dir/resumed.jsonl")
 whole=$("$kessler" run "$long_scenario" --local --threads 1 --output json | fingerprint)
 echo "resumed by the next daemon: $resumed"
