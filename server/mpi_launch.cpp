@@ -143,15 +143,16 @@ class StopForwarder {
     pthread_sigmask(SIG_BLOCK, &pipe_signal, nullptr);
     int lines_sent = 0;
     std::optional<std::chrono::steady_clock::time_point> cancelled_at;
+    bool killed = false;
     std::unique_lock lock(mutex_);
     while (!cv_.wait_for(lock, std::chrono::milliseconds(100), [this] { return done_; })) {
       const int wanted = control_.cancel ? 2 : control_.stop_after_checkpoint ? 1 : 0;
       for (; lines_sent < wanted; ++lines_sent)
         if (::write(job_.stdin_fd, "\n", 1) != 1) break;
       if (control_.cancel && !cancelled_at) cancelled_at = std::chrono::steady_clock::now();
-      if (cancelled_at && std::chrono::steady_clock::now() - *cancelled_at > kCancelGrace) {
+      if (cancelled_at && !killed && std::chrono::steady_clock::now() - *cancelled_at > kCancelGrace) {
         ::kill(-job_.pid, SIGKILL);
-        cancelled_at = std::chrono::steady_clock::time_point::max() - kCancelGrace;
+        killed = true;
       }
     }
   }
