@@ -1,5 +1,6 @@
 // kesslerd: the Kessler daemon. Hosts simulation runs behind a gRPC API and keeps them in SQLite.
 #include <signal.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
@@ -62,6 +63,15 @@ options:
   --checkpoint-write-ms N
                         write a run's checkpoints to the database at most every N ms; a newer one
                         replaces one still waiting (default 1000; 0: every checkpoint as it comes)
+  --mpi-launcher LINE   compute each run on an MPI job started by LINE, e.g. "mpirun -np 8 --hostfile
+                        H" or "srun --ntasks 8": the daemon runs LINE kessler-mpi SCENARIO --event-stream
+                        and stores, streams and checkpoints the run as its own (events bit for bit those
+                        of a run in the daemon; a failed job fails the run, resumable from its last
+                        checkpoint). Off by default
+  --mpi-program PATH    the kessler-mpi the launcher starts on every node (default: the one beside
+                        kesslerd)
+  --mpi-work-dir DIR    where each MPI run's scenario is written for the ranks to read: on a cluster a
+                        directory every node sees (default: the system's temporary directory)
   --port-file PATH      write the port listened on to PATH once serving (for scripts and tests)
   --http HOST:PORT      also serve the web dashboard (runs, live progress, conjunctions, figures) on
                         HOST:PORT (off by default; port 0 picks a free one); the dashboard has no
@@ -133,6 +143,22 @@ int token_command(int argc, char** argv) {
     std::cerr << "kesslerd: " << e.what() << "\n";
     return 1;
   }
+}
+
+// The MPI options hang together: a program to start and a directory to write in, for a launcher.
+std::string check_mpi_options(kessler::server::MpiLaunch& mpi) {
+  if (mpi.launcher.empty()) {
+    if (!mpi.program.empty() || !mpi.work_dir.empty())
+      return "--mpi-program and --mpi-work-dir need --mpi-launcher";
+    return "";
+  }
+  if (mpi.program.empty()) mpi.program = kessler::server::default_mpi_program();
+  if (::access(mpi.program.c_str(), X_OK) != 0)
+    return "--mpi-program: " + mpi.program + " is not an executable file (build with -DKESSLER_MPI=ON)";
+  std::error_code ec;
+  if (!mpi.work_dir.empty() && !std::filesystem::is_directory(mpi.work_dir, ec))
+    return "--mpi-work-dir: " + mpi.work_dir + " is not a directory";
+  return "";
 }
 
 struct Security {
@@ -324,6 +350,15 @@ int main(int argc, char** argv) {
       if (!parse_int(value, 0, 86400000, n))
         return usage_error("--checkpoint-write-ms needs an integer 0..86400000");
       options.min_checkpoint_interval = std::chrono::milliseconds(n);
+    } else if (arg == "--mpi-launcher") {
+      std::string error;
+      auto words = split_launcher(value, error);
+      if (!words) return usage_error("--mpi-launcher: " + error);
+      options.mpi.launcher = *words;
+    } else if (arg == "--mpi-program") {
+      options.mpi.program = value;
+    } else if (arg == "--mpi-work-dir") {
+      options.mpi.work_dir = value;
     } else if (arg == "--port-file") {
       ports.port_file = value;
     } else if (arg == "--http") {
@@ -337,6 +372,7 @@ int main(int argc, char** argv) {
     }
   }
 
+  if (auto error = check_mpi_options(options.mpi); !error.empty()) return usage_error(error);
   std::string address_error;
   auto address = parse_listen_address(listen, address_error);
   if (!address) return usage_error(address_error);

@@ -542,8 +542,9 @@ void RunManager::execute_run(std::int64_t run_id, RunControl& control) {
   FieldError error;
   std::unique_ptr<Simulation> simulation;
   std::optional<IngestReport> ingest;
+  std::optional<StoredCheckpoint> checkpoint;
   try {
-    auto checkpoint = store_.latest_checkpoint(run_id);
+    checkpoint = store_.latest_checkpoint(run_id);
     simulation = checkpoint ? resume_simulation(run->scenario(), checkpoint->bytes, build, &error)
                             : build_simulation(run->scenario(), build, &error, &ingest);
     if (ingest) store_.set_ingest(run_id, ingest_proto(*ingest));
@@ -562,7 +563,15 @@ void RunManager::execute_run(std::int64_t run_id, RunControl& control) {
   EventLimitSink limited(*relay, control, options_.limits.max_events);
   RunSummary summary;
   try {
-    summary = simulation->run(limited, control);
+    if (options_.mpi.launcher.empty()) {
+      summary = simulation->run(limited, control);
+    } else {  // built above for its checks, ingest and names; the ranks compute it
+      simulation.reset();
+      RanksRun ranks{
+          run_id, &run->scenario(), nullptr, 0, run->threads(), options_.datasets_dir, options_.traffic_dir};
+      if (checkpoint) ranks.checkpoint = &checkpoint->bytes, ranks.checkpoint_step = checkpoint->step;
+      summary = run_on_ranks(options_.mpi, ranks, limited, control);
+    }
   } catch (const std::exception& e) {
     relay->drain();
     relay_cpu_s_.fetch_add(relay->cpu_s());

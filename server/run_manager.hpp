@@ -20,6 +20,7 @@
 #include "core/simulation/simulation.hpp"
 #include "kessler/v1/service.pb.h"
 #include "server/event_hub.hpp"
+#include "server/mpi_launch.hpp"
 #include "server/run_limits.hpp"
 #include "server/scheduler.hpp"
 #include "server/store.hpp"
@@ -48,8 +49,8 @@ struct ManagerOptions {
   int threads_per_run = 0;  // 0: OpenMP's default
   std::size_t queue_limit = 1000;
   std::uint64_t max_ensemble_members = 1000;  // SubmitEnsemble takes 1..this many members
-  std::string datasets_dir;  // empty: the build's bundled datasets
-  std::string traffic_dir;   // shipped launch plans; empty: the build's deploy/traffic
+  std::string datasets_dir;                   // empty: the build's bundled datasets
+  std::string traffic_dir;                    // shipped launch plans; empty: the build's deploy/traffic
   std::size_t hub_capacity = 65536;
   // The store writes a run's checkpoints at most this often (a newer one replaces a waiting one);
   // a crash then costs at most this much more recomputation. SIGTERM and run ends write at once.
@@ -65,6 +66,9 @@ struct ManagerOptions {
   RunLimits limits;
   // While the store cannot write, how often a small write probes whether it can again.
   std::chrono::milliseconds store_probe_interval{1000};
+  // Runs computed by an MPI job (server/mpi_launch.hpp) when the launcher is given; adjust_config
+  // does not reach them.
+  MpiLaunch mpi;
 };
 
 // Allocator settings for a process that hosts runs: blocks up to 32 MB come from the heap and freed

@@ -182,7 +182,15 @@ std::optional<int> prepare(const LocalRunOptions& o, v1::Scenario& scenario) {
               << ": add --local to run in this process (use 'kessler submit' to run on kesslerd)\n";
     return kExitUsage;
   }
-  if (auto e = load_scenario_file(o.scenario_path, scenario)) {
+  if (o.scenario) {
+    scenario = *o.scenario;
+  } else if (o.scenario_binary) {
+    std::ifstream in(o.scenario_path, std::ios::binary);
+    if (!in || !scenario.ParseFromIstream(&in)) {
+      std::cerr << o.program << ": " << o.scenario_path << ": not a serialized kessler.v1.Scenario\n";
+      return kExitUsage;
+    }
+  } else if (auto e = load_scenario_file(o.scenario_path, scenario)) {
     std::cerr << o.program << ": " << o.scenario_path << ": " << e->message() << '\n';
     return kExitUsage;
   }
@@ -207,7 +215,7 @@ std::optional<int> prepare(const LocalRunOptions& o, v1::Scenario& scenario) {
 std::unique_ptr<Simulation> build(const LocalRunOptions& o, const v1::Scenario& scenario,
                                   std::optional<IngestReport>& ingest) {
   BuildOptions options = o.build;
-  options.checkpoints = !o.checkpoint_dir.empty();
+  options.checkpoints = !o.checkpoint_dir.empty() || o.sink_checkpoints;
   FieldError error;
   std::unique_ptr<Simulation> sim;
   if (!o.resume_path.empty()) {
@@ -235,7 +243,8 @@ int run_local(const LocalRunOptions& o, OutputFormat format) {
   std::optional<IngestReport> ingest;
   std::unique_ptr<Simulation> sim = build(o, scenario, ingest);
   // What the ingest did comes first, also when it left nothing to run.
-  if (ingest && o.prints)
+  const bool prints = o.prints && !o.sink;
+  if (ingest && prints)
     std::cout << (json ? ingest_json(ingest_outcome(*ingest)) + "\n" : ingest_table(ingest_outcome(*ingest)));
   std::cout.flush();
   if (!sim) return kExitUsage;
@@ -249,8 +258,8 @@ int run_local(const LocalRunOptions& o, OutputFormat format) {
   const SimulationConfig config = to_simulation_config(scenario, o.build.threads);
   PrintingSink printing(json, config.start_epoch, o.checkpoint_dir, o.program);
   SilentSink silent;
-  EventSink& sink = o.prints ? static_cast<EventSink&>(printing) : silent;
-  if (o.prints) printing.set_names(sim->population());
+  EventSink& sink = o.sink && o.prints ? *o.sink : prints ? static_cast<EventSink&>(printing) : silent;
+  if (prints) printing.set_names(sim->population());
   RunControl control;
   // A host that sees the controls handles the signals itself (kessler-mpi: every rank must stop at the
   // same step).
@@ -272,7 +281,7 @@ int run_local(const LocalRunOptions& o, OutputFormat format) {
       o.on_control(nullptr);
     }
   };
-  if (!json && o.prints)
+  if (!json && prints)
     std::cerr << "running " << (scenario.name().empty() ? o.scenario_path : scenario.name()) << ": "
               << sim->population().size() << " objects, " << sim->total_steps() - sim->step() << " steps of "
               << config.dt_s << " s\n";
@@ -284,7 +293,8 @@ int run_local(const LocalRunOptions& o, OutputFormat format) {
     return kExitFailure;
   }
   release_control();
-  if (o.prints) {
+  if (o.prints && o.on_summary) o.on_summary(summary);
+  if (prints) {
     printing.finish();
     if (json)
       std::cout << summary_json(summary) << '\n';

@@ -24,6 +24,17 @@ struct LocalRunOptions {
   std::function<std::optional<std::string>(const Simulation&)> check_built;
   // Called with the run's controls before it starts and with null after it (a host's own triggers).
   std::function<void(RunControl*)> on_control;
+  // Where a printing run's events and checkpoints go instead of stdout and checkpoint_dir (kessler-mpi
+  // --event-stream); nothing is printed then, and checkpoints are taken. Null: printed.
+  EventSink* sink = nullptr;
+  // Called with the summary of a run that returned (finished, cancelled or stopped at a checkpoint).
+  std::function<void(const RunSummary&)> on_summary;
+  // scenario_path holds a serialized kessler.v1.Scenario (as kesslerd writes it), not YAML or JSON.
+  bool scenario_binary = false;
+  // The scenario itself, read already (an ensemble's member); scenario_path then only names it.
+  const v1::Scenario* scenario = nullptr;
+  // Checkpoints are taken for the sink (a run resumable without a checkpoint directory).
+  bool sink_checkpoints = false;
 };
 
 // Runs o.scenario_path (o.local must be set) and returns the exit code: 0 finished, 1 failed or stopped

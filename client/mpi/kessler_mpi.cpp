@@ -3,13 +3,16 @@
 // table and the same summary, bit for bit the same events and fingerprints for any rank and thread
 // count. Every rank runs the whole loop on the whole population; propagation and the conjunction scan
 // are shared out among them (core/distributed/README.md). Rank 0 alone prints and writes checkpoints.
-// Exit codes as `kessler run`: 0 finished, 1 failed or stopped early, 2 bad usage or scenario (on every
-// rank).
+// A scenario with an ensemble runs its members over groups of ranks (mpi_ensemble.hpp); --event-stream
+// hands the run to kesslerd (server/mpi_launch.hpp). Exit codes as `kessler run`: 0 finished, 1 failed
+// or stopped early, 2 bad usage or scenario (on every rank).
 #include <mpi.h>
 #include <omp.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
@@ -17,12 +20,15 @@
 #include <sstream>
 #include <streambuf>
 #include <string>
+#include <thread>
 
 #include "client/commands/local_run.hpp"
+#include "client/mpi/mpi_ensemble.hpp"
 #include "core/distributed/decomposition.hpp"
 #include "core/distributed/distributed_propagator.hpp"
 #include "core/distributed/distributed_scanner.hpp"
 #include "core/distributed/rank_team.hpp"
+#include "core/simulation/event_stream.hpp"
 
 namespace kessler::cli {
 namespace {
@@ -93,7 +99,33 @@ struct MpiOptions {
   LocalRunOptions run;
   std::string output;
   bool timing = false;
+  bool event_stream = false;
+  int ranks_per_member = 0;
 };
+
+// --event-stream: each line on stdin counts as a signal (kesslerd stops or cancels the run this way:
+// mpirun passes its stdin on to rank 0, srun to every rank, while neither passes SIGTERM on at once).
+// The end of stdin changes nothing.
+void count_stop_lines() {
+  std::thread([] {
+    char c = 0;
+    for (;;) {
+      ssize_t n = ::read(0, &c, 1);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return;
+      if (c == '\n') g_signals.fetch_add(1);
+    }
+  }).detach();
+}
+
+// --event-stream on rank 0: the records go to what was stdout, and anything else printed to stdout
+// goes to stderr, so that nothing but records reaches the stream.
+int take_stdout_for_records() {
+  std::cout.flush();
+  const int fd = ::dup(1);
+  ::dup2(2, 1);
+  return fd;
+}
 
 // What the loop took on this rank, for --timing.
 struct LoopFigures {
@@ -147,10 +179,23 @@ int run_ranks(MpiOptions& o, distributed::RankTeam& team) {
   run.local = true;
   run.program = kProgram;
   run.prints = team.rank() == 0;
-  StopAgreement agreement(team, !run.checkpoint_dir.empty());
+  std::unique_ptr<EventStreamWriter> writer;
+  if (o.event_stream) {
+    // Every rank takes the same checkpoints (a stop comes after one); rank 0 writes the records.
+    writer = std::make_unique<EventStreamWriter>(team.rank() == 0 ? take_stdout_for_records() : -1);
+    run.sink = writer.get();
+    run.sink_checkpoints = true;
+    run.on_summary = [&](const RunSummary& summary) { writer->write_summary(summary); };
+    run.scenario_binary = true;
+    run.checkpoint_dir.clear();
+    count_stop_lines();
+  }
+  StopAgreement agreement(team, !run.checkpoint_dir.empty() || o.event_stream);
   // Population snapshots are for the daemon's store; nothing here prints them (as in kessler run --local),
   // and taking them is a pass over the whole population on every rank. They never change a result.
-  run.build.adjust_config = [](SimulationConfig& config) { config.snapshot_every_steps = 0; };
+  // Under kesslerd (--event-stream) they are taken for its store.
+  if (!o.event_stream)
+    run.build.adjust_config = [](SimulationConfig& config) { config.snapshot_every_steps = 0; };
   run.build.adjust_parts = [&](const SimulationConfig& config, SimulationParts& parts) {
     auto shared = std::make_unique<distributed::DistributedPropagator>(std::move(parts.propagator), team);
     parts.propagator = std::make_unique<AgreeingPropagator>(std::move(shared), agreement);
@@ -186,6 +231,27 @@ int run_ranks(MpiOptions& o, distributed::RankTeam& team) {
   return exit;
 }
 
+// A scenario with an ensemble runs its members over groups of ranks (mpi_ensemble.hpp); any other, or
+// one that cannot be read (run_ranks says why), runs on the whole team.
+int run_maybe_ensemble(MpiOptions& o, distributed::RankTeam& team) {
+  v1::Scenario scenario;
+  if (o.event_stream || load_scenario_file(o.run.scenario_path, scenario) || !scenario.has_ensemble())
+    return run_ranks(o, team);
+  if (!o.run.checkpoint_dir.empty() || !o.run.resume_path.empty() || o.timing) {
+    std::cerr << kProgram << ": " << o.run.scenario_path
+              << ": an ensemble runs without --checkpoint-dir, --resume and --timing\n";
+    return kExitUsage;
+  }
+  o.run.program = kProgram;
+  EnsembleOptions ensemble{o.ranks_per_member, o.output == "json"};
+  return run_ensemble(o.run, scenario, ensemble, team,
+                      [&](LocalRunOptions& run, distributed::RankTeam& group) {
+                        MpiOptions member;
+                        member.run = run;
+                        return run_ranks(member, group);
+                      });
+}
+
 int parse_and_run(int argc, char** argv, distributed::RankTeam& team) {
   MpiOptions o;
   CLI::App app{"kessler-mpi: one scenario run shared out among MPI ranks (mpirun -np R kessler-mpi SCENARIO)",
@@ -208,6 +274,15 @@ int parse_and_run(int argc, char** argv, distributed::RankTeam& team) {
   app.add_option("--traffic-plans", o.run.build.traffic_dir, "where the shipped launch plans live")
       ->option_text("DIR");
   app.add_option("--output,-o", o.output, "table (default) or json: as kessler run --local prints");
+  app.add_flag("--event-stream", o.event_stream,
+               "for kesslerd --mpi-launcher: SCENARIO is a serialized kessler.v1.Scenario; rank 0 writes the "
+               "run's events, checkpoints and end as binary records on stdout (core/simulation/"
+               "event_stream.hpp); a line on stdin stops the run after a checkpoint, a second cancels it");
+  app.add_option("--ranks-per-member", o.ranks_per_member,
+                 "a scenario with ensemble.members N: ranks per member (default: ranks / N, at least 1); "
+                 "the members spread over the groups, member k with seed + k")
+      ->option_text("K")
+      ->check(CLI::Range(1, 1 << 20));
   app.add_flag("--timing", o.timing,
                "after the run, one JSON line on stderr: ns per object-step, MPI share, peak memory per rank");
   app.footer(
@@ -221,7 +296,7 @@ int parse_and_run(int argc, char** argv, distributed::RankTeam& team) {
     std::cerr << kProgram << ": " << e.what() << " (see " << kProgram << " --help)\n";
     return kExitUsage;
   }
-  return run_ranks(o, team);
+  return run_maybe_ensemble(o, team);
 }
 
 }  // namespace
