@@ -80,6 +80,7 @@ struct Job {
 // async-signal-safe calls: the daemon has many threads.
 Job start_job(const std::vector<std::string>& words, const fs::path& stderr_path) {
   std::vector<char*> argv;
+  argv.reserve(words.size() + 1);
   for (const std::string& w : words) argv.push_back(const_cast<char*>(w.c_str()));
   argv.push_back(nullptr);
   int in[2], out[2];
