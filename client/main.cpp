@@ -22,6 +22,7 @@ CommandRun setup_conjunctions(CLI::App& command, GlobalOptions& global);
 CommandRun setup_fragments(CLI::App& command, GlobalOptions& global);
 CommandRun setup_snapshot(CLI::App& command, GlobalOptions& global);
 CommandRun setup_cancel(CLI::App& command, GlobalOptions& global);
+CommandRun setup_resume(CLI::App& command, GlobalOptions& global);
 CommandRun setup_delete(CLI::App& command, GlobalOptions& global);
 CommandRun setup_health(CLI::App& command, GlobalOptions& global);
 CommandRun setup_ensemble(CLI::App& command, GlobalOptions& global);
@@ -46,6 +47,7 @@ const CommandSpec kCommands[] = {
     {"snapshot", "a run's population at a snapshot: kinds, sizes, osculating elements (csv, json)",
      setup_snapshot},
     {"cancel", "cancel a queued or running run", setup_cancel},
+    {"resume", "queue a failed or cancelled run again, from its last checkpoint", setup_resume},
     {"delete", "delete an ended run and everything stored for it", setup_delete},
     {"ensemble", "Monte Carlo ensembles (submit --members N): show (aggregates), list, cancel",
      setup_ensemble},

@@ -136,6 +136,14 @@ class Service final : public v1::KesslerService::Service {
       *out = m_.cancel(r->run_id());
     });
   }
+  grpc::Status ResumeRun(grpc::ServerContext* c, const v1::ResumeRunRequest* r, v1::Run* out) override {
+    return guard_(c, Role::kSubmit, [&](const Caller& who) {
+      check_run_owner(who, r->run_id());
+      guard_.limits().take_request(who);
+      guard_.limits().check_runs(who, m_.store().active_runs_of(who.name), 1);
+      *out = m_.resume(r->run_id());
+    });
+  }
   grpc::Status DeleteRun(grpc::ServerContext* c, const v1::DeleteRunRequest* r,
                          v1::DeleteRunResponse*) override {
     return guard_(c, Role::kSubmit, [&](const Caller& who) {

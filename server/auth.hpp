@@ -14,7 +14,7 @@
 namespace kessler::server {
 
 // read: list and read every run and ensemble (dashboards, monitoring). submit: submit, and list, read,
-// cancel and delete its own runs and ensembles only. admin: everything, on every run.
+// cancel, resume and delete its own runs and ensembles only. admin: everything, on every run.
 enum class Role { kRead = 1, kSubmit = 2, kAdmin = 3 };
 
 const char* role_name(Role role);

@@ -407,6 +407,36 @@ v1::Run RunManager::cancel(std::int64_t run_id) {
   return get(run_id, false);
 }
 
+v1::Run RunManager::resume(std::int64_t run_id) {
+  v1::Run run = get(run_id, false);
+  require_not_quarantined(run_id);
+  if (run.state() != v1::RUN_STATE_FAILED && run.state() != v1::RUN_STATE_CANCELLED)
+    throw ServiceError(Code::kFailedPrecondition,
+                       "run " + std::to_string(run_id) + " is " + run_state_name(run.state()) +
+                           "; only a failed or cancelled run resumes");
+  require_writable();
+  if (scheduler_->queued() >= options_.queue_limit)
+    throw ServiceError(Code::kResourceExhausted, "queue full: " + std::to_string(options_.queue_limit) +
+                                                     " runs are waiting; try later");
+  {
+    std::lock_guard lock(faults_mutex_);  // an end the store could not take yet is replaced by this
+    unrecorded_.erase(run_id);
+  }
+  try {
+    store_.forget_write_failure(run_id);
+    store_.set_queued(run_id);
+  } catch (const StoreError& e) {
+    store_.health().record_failure(e.what());
+    throw ServiceError(Code::kUnavailable, std::string("the store cannot write (") + e.what() + ")");
+  }
+  if (!scheduler_->enqueue(run_id)) {
+    store_.set_finished(run_id, run.state(), unix_now_s(), run.error(), nullptr);
+    throw ServiceError(Code::kResourceExhausted, "queue full: " + std::to_string(options_.queue_limit) +
+                                                     " runs are waiting; try later");
+  }
+  return get(run_id, false);
+}
+
 void RunManager::remove(std::int64_t run_id) {
   v1::Run run = get(run_id, false);
   if (!is_terminal(run.state()))

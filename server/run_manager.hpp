@@ -107,6 +107,8 @@ class RunManager {
   // `submitter`: only this submitter's runs (nullptr: everyone's).
   v1::ListRunsResponse list(const v1::ListRunsRequest& request, const std::string* submitter = nullptr);
   v1::Run cancel(std::int64_t run_id);
+  // A failed or cancelled run queued again, to continue from its last checkpoint (ResumeRun).
+  v1::Run resume(std::int64_t run_id);
   void remove(std::int64_t run_id);
   v1::ListConjunctionsResponse conjunctions(const v1::ListConjunctionsRequest& request);
   // One conjunction as a CDM (server/conjunction_assessment.cpp).

@@ -197,6 +197,9 @@ class Store {
   // A run that has ended needs no checkpoint: one still waiting for its interval is dropped unwritten
   // (the stored one stays).
   void discard_waiting_checkpoint(std::int64_t run_id);
+  // A run whose writes failed gets nothing more written until this (it is resumed from a checkpoint
+  // stored before the failure, ResumeRun); in order with its other items.
+  void forget_write_failure(std::int64_t run_id);
   // Blocks until everything appended so far is committed (held checkpoints too, or superseded).
   void flush();
   // The highest sequence number committed for a run (0: none).

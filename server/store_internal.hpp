@@ -142,6 +142,7 @@ struct Store::Pending {
   std::shared_ptr<const PopulationSnapshot> snapshot;            // or a snapshot (with run_id)
   bool is_checkpoint = false;
   bool discard = false;  // a checkpoint item that drops the run's waiting checkpoint
+  bool resume = false;   // a control item: the run's write failure is forgotten (it resumes)
 
   // The run the item belongs to, whatever its kind.
   std::int64_t run() const { return event ? event->run_id() : run_id; }

@@ -198,7 +198,9 @@ void Store::set_running(std::int64_t run_id, double started_unix_s) {
 void Store::set_queued(std::int64_t run_id) {
   throw_if_failing_for_test();
   Lease lease(*this);
-  Statement s(lease.db(), "UPDATE runs SET state = ? WHERE id = ?");
+  // A resumed run (ResumeRun) drops the end it had; its events and checkpoint stay.
+  Statement s(lease.db(),
+              "UPDATE runs SET state = ?, finished_unix_s = 0, error = '', summary = NULL WHERE id = ?");
   s.bind(1, static_cast<int>(v1::RUN_STATE_QUEUED)).bind(2, run_id);
   s.run();
 }

@@ -81,6 +81,18 @@ void Store::discard_waiting_checkpoint(std::int64_t run_id) {
   queue_cv_.notify_one();
 }
 
+void Store::forget_write_failure(std::int64_t run_id) {
+  Pending p;
+  p.resume = true;
+  p.run_id = run_id;
+  {
+    std::lock_guard lock(queue_mutex_);
+    queue_.push_back(std::move(p));
+    ++appended_;
+  }
+  queue_cv_.notify_one();
+}
+
 void Store::append_checkpoint(std::int64_t run_id, std::uint64_t last_seq, std::int64_t step,
                               std::shared_ptr<const std::string> bytes) {
   Pending p;
@@ -175,6 +187,11 @@ void Store::writer_loop() {
     std::uint64_t done = 0;  // items committed or superseded by this pass
     to_write.clear();
     for (Pending& p : batch) {
+      if (p.resume) {
+        failed_runs.erase(p.run_id);
+        ++done;
+        continue;
+      }
       if (!p.is_checkpoint) {
         to_write.push_back(std::move(p));
         continue;

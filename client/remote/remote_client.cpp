@@ -223,6 +223,12 @@ CallResult RemoteClient::cancel(std::int64_t run_id, v1::Run& out) {
   return unary(*impl_->stub, &v1::KesslerService::Stub::CancelRun, request, out);
 }
 
+CallResult RemoteClient::resume(std::int64_t run_id, v1::Run& out) {
+  v1::ResumeRunRequest request;
+  request.set_run_id(run_id);
+  return unary(*impl_->stub, &v1::KesslerService::Stub::ResumeRun, request, out);
+}
+
 CallResult RemoteClient::remove(std::int64_t run_id) {
   v1::DeleteRunRequest request;
   request.set_run_id(run_id);

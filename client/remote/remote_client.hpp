@@ -56,6 +56,7 @@ class RemoteClient {
   CallResult get(std::int64_t run_id, v1::Run& out);
   CallResult list(const v1::ListRunsRequest& request, v1::ListRunsResponse& out);
   CallResult cancel(std::int64_t run_id, v1::Run& out);
+  CallResult resume(std::int64_t run_id, v1::Run& out);
   CallResult remove(std::int64_t run_id);
   CallResult conjunctions(const v1::ListConjunctionsRequest& request, v1::ListConjunctionsResponse& out);
   CallResult conjunction_cdm(const v1::GetConjunctionCdmRequest& request, v1::ConjunctionCdm& out);

@@ -3,7 +3,8 @@
 # fingerprint (events_digest, state_digest) and the stored conjunctions of `kessler run --local`, and
 # the population snapshots a daemon without MPI stores; a job
 # that refuses the run (more ranks than objects) fails the run with kessler-mpi's message; a cancel
-# reaches the ranks; a rank killed mid-run fails the run with the job's end named.
+# reaches the ranks; a rank killed mid-run fails the run with the job's end named, and `kessler resume`
+# then ends it with the fingerprint of the run without MPI.
 # A daemon stopped mid-run leaves the run resumable: the next one ends it with the fingerprint of the run
 # without MPI. Bad --mpi-* flags: exit 2 naming the flag.
 # Usage: daemon_mpi.sh KESSLER KESSLERD KESSLER_MPI MPIEXEC SCENARIO LONG_SCENARIO
@@ -147,6 +148,14 @@ tail -n 1 "$dir/killed.jsonl"
 test "$code" -eq 1
 grep -q 'the MPI job ended without the run' "$dir/killed.jsonl"
 test -z "$(pgrep -P "$daemon")"
+# kessler resume: the failed run continues (from its last checkpoint) to the fingerprint of the run
+# without MPI.
+whole=$("$kessler" run "$long_scenario" --local --threads 1 --output json | fingerprint)
+test -n "$whole"
+"$kessler" resume "$run"
+"$kessler" watch "$run" --output json >"$dir/killed-resumed.jsonl"
+echo "killed, then resumed:       $(fingerprint <"$dir/killed-resumed.jsonl")"
+test "$(fingerprint <"$dir/killed-resumed.jsonl")" = "$whole"
 
 # 5. The daemon stopped mid-run (SIGTERM): the ranks stop after a checkpoint, the run stays resumable,
 # and the next daemon resumes it from the stored checkpoint to the fingerprint of the run without MPI.
@@ -161,9 +170,7 @@ start_daemon
 grep "run $run" "$dir/daemon.log"
 grep -q "run $run from the checkpoint at step [1-9][0-9]*: MPI job: .*--resume" "$dir/daemon.log"
 resumed=$(fingerprint <"$dir/resumed.jsonl")
-whole=$("$kessler" run "$long_scenario" --local --threads 1 --output json | fingerprint)
 echo "resumed by the next daemon: $resumed"
 echo "kessler run --local:        $whole"
-test -n "$whole"
 test "$resumed" = "$whole"
 echo "ok"

@@ -143,5 +143,58 @@ TEST(StoreFaultsEndToEnd, ARunThatEmitsMoreEventsThanItsLimitFailsSayingSo) {
   EXPECT_LE(m.store().max_seq(run.id()), 30u);
 }
 
+// ResumeRun after a storage fault: the failed run continues from its last checkpoint once the store can
+// write again, and ends with the digests and the events of the same scenario run without a fault.
+TEST(StoreFaultsEndToEnd, ARunFailedByAFullDiskResumesAndEndsAsAnUninterruptedRun) {
+  TempDir dir;
+  server::ManagerOptions options;
+  options.db_path = dir.path() + "/k.db";
+  options.threads_per_run = 1;
+  options.store_probe_interval = std::chrono::milliseconds(50);
+  options.min_checkpoint_interval = std::chrono::milliseconds(0);
+  RunManager m(options);
+  const v1::Run reference = wait_for(m, submit(m, synthetic(0.3)).id(), ended);
+  ASSERT_EQ(reference.state(), v1::RUN_STATE_SUCCEEDED) << reference.error();
+  auto expect_refused = [&](std::int64_t id, ServiceError::Code code, const std::string& says) {
+    try {
+      m.resume(id);
+      ADD_FAILURE() << "run " << id << " was resumed";
+    } catch (const ServiceError& e) {
+      EXPECT_EQ(e.code, code);
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+  };
+  expect_refused(reference.id(), ServiceError::Code::kFailedPrecondition, "is succeeded");
+  expect_refused(999, ServiceError::Code::kNotFound, "not found");
+
+  const std::int64_t victim = submit(m, synthetic(0.3)).id();
+  const v1::Run running = wait_for(m, victim, [](const v1::Run& r) { return r.progress().step() >= 100; });
+  ASSERT_EQ(running.state(), v1::RUN_STATE_RUNNING);
+  expect_refused(victim, ServiceError::Code::kFailedPrecondition, "is running");
+  m.store().fail_writes_for_test("database or disk is full");
+  ASSERT_EQ(wait_for(m, victim, ended).state(), v1::RUN_STATE_FAILED);
+  m.store().fail_writes_for_test("");
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (!m.store_writable() && std::chrono::steady_clock::now() < until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_TRUE(m.store().latest_checkpoint(victim)) << "the failed run kept no checkpoint";
+
+  const v1::Run queued = m.resume(victim);
+  EXPECT_EQ(queued.state(), v1::RUN_STATE_QUEUED);
+  EXPECT_TRUE(queued.error().empty()) << queued.error();
+  const v1::Run resumed = wait_for(m, victim, ended);
+  ASSERT_EQ(resumed.state(), v1::RUN_STATE_SUCCEEDED) << resumed.error();
+  EXPECT_EQ(resumed.summary().events_digest(), reference.summary().events_digest());
+  EXPECT_EQ(resumed.summary().state_digest(), reference.summary().state_digest());
+  EXPECT_EQ(resumed.summary().conjunctions(), reference.summary().conjunctions());
+  EXPECT_EQ(m.store().max_seq(victim), m.store().max_seq(reference.id()));  // none lost, none twice
+  v1::ListConjunctionsRequest list;
+  list.set_include_evasions(true);
+  list.set_run_id(reference.id());
+  const std::uint64_t expected = m.conjunctions(list).total();
+  list.set_run_id(victim);
+  EXPECT_EQ(m.conjunctions(list).total(), expected);
+}
+
 }  // namespace
 }  // namespace kessler

@@ -467,6 +467,55 @@ TEST(ServiceEndToEnd, SigtermCheckpointsTheRunningRunWhichResumesAtTheNextStart)
   }
 }
 
+// kessler cancel, then kessler resume: the run continues from its checkpoint and ends with exactly the
+// events and digests of an uninterrupted run; resume is refused for a run that has not failed or been
+// cancelled, and for an unknown one.
+TEST(ServiceEndToEnd, ACancelledRunResumesFromItsCheckpointAndEndsAsAnUninterruptedRun) {
+  TempDir dir;
+  std::string scenario = test::read_text(kTiny);
+  const std::string duration = "duration_days: 0.04";
+  scenario.replace(scenario.find(duration), duration.size(), "duration_days: 0.2");
+  const std::string path = dir.path() + "/longer.yaml";
+  test::write_text(path, scenario);
+  LocalRun local = run_in_process(path);
+  const std::string db = dir.path() + "/k.db";
+  Daemon daemon(db, {"--threads", "1", "--checkpoint-write-ms", "0"});
+  daemon.start();
+  auto stub = connect(daemon);
+  const std::string server = " --server " + daemon.address();
+  std::int64_t id = submit_file(*stub, path);
+  const std::string run = std::to_string(id);
+  v1::Run state;
+  do {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    state = get_run(*stub, id);
+  } while ((state.progress().step() < state.progress().total_steps() / 3 || stored_checkpoint_step(db, id) == 0) &&
+           state.state() <= v1::RUN_STATE_RUNNING);
+  ASSERT_EQ(state.state(), v1::RUN_STATE_RUNNING) << "the run ended before it could be cancelled";
+  auto refused = cli(dir, "resume " + run + server);
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_NE(refused.err.find("FAILED_PRECONDITION"), std::string::npos) << refused.err;
+  ASSERT_EQ(cli(dir, "cancel " + run + server).exit_code, 0);
+  ASSERT_EQ(wait_until_ended(*stub, id).state(), v1::RUN_STATE_CANCELLED);
+
+  auto resumed = cli(dir, "resume " + run + " --output json" + server);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  // Queued, or already running again by the time the CLI prints.
+  EXPECT_NE(resumed.out.find("\"state\": \""), std::string::npos) << resumed.out;
+  EXPECT_EQ(resumed.out.find("cancelled"), std::string::npos) << resumed.out;
+  state = wait_until_ended(*stub, id);
+  ASSERT_EQ(state.state(), v1::RUN_STATE_SUCCEEDED) << state.error();
+  EXPECT_EQ(state.summary().events_digest(), local.summary.events_digest);
+  EXPECT_EQ(state.summary().state_digest(), local.summary.state_digest);
+  EXPECT_EQ(described(watch(*stub, id, 0)), local.events);  // none lost, none twice
+  auto again = cli(dir, "resume " + run + server);
+  EXPECT_EQ(again.exit_code, 1);
+  EXPECT_NE(again.err.find("only a failed or cancelled run resumes"), std::string::npos) << again.err;
+  auto unknown = cli(dir, "resume 999" + server);
+  EXPECT_EQ(unknown.exit_code, 1);
+  EXPECT_NE(unknown.err.find("NOT_FOUND"), std::string::npos) << unknown.err;
+}
+
 TEST(ServiceEndToEnd, AWatcherThatReconnectsWithItsLastSequenceGetsExactlyTheRest) {
   TempDir dir;
   auto daemon = std::make_unique<Daemon>(dir.path() + "/k.db");
