@@ -237,6 +237,7 @@ class Store {
   struct Pending;
   struct WriterStatements;
   void writer_loop();
+  void enqueue(Pending p);  // one item for the writer, in order
   void write_batch(std::vector<Pending>& batch, WriterStatements& statements);
   class Lease;  // a pooled connection for reads and run updates
   sqlite3* acquire();

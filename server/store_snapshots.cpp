@@ -27,12 +27,7 @@ void Store::append_snapshot(std::int64_t run_id, std::shared_ptr<const Populatio
   Pending p;
   p.run_id = run_id;
   p.snapshot = std::move(snapshot);
-  {
-    std::lock_guard lock(queue_mutex_);
-    queue_.push_back(std::move(p));
-    ++appended_;
-  }
-  queue_cv_.notify_one();
+  enqueue(std::move(p));
 }
 
 Page<StoredSnapshotInfo> Store::list_snapshots(std::int64_t run_id, int page_size,

@@ -26,15 +26,19 @@ double thread_cpu_s() {
 
 // ---- the writer ----
 
-void Store::append_event(std::shared_ptr<const v1::RunEvent> event) {
-  Pending p;
-  p.event = std::move(event);
+void Store::enqueue(Pending p) {
   {
     std::lock_guard lock(queue_mutex_);
     queue_.push_back(std::move(p));
     ++appended_;
   }
   queue_cv_.notify_one();
+}
+
+void Store::append_event(std::shared_ptr<const v1::RunEvent> event) {
+  Pending p;
+  p.event = std::move(event);
+  enqueue(std::move(p));
 }
 
 void Store::append_events(const std::vector<std::shared_ptr<const v1::RunEvent>>& events) {
@@ -55,12 +59,7 @@ void Store::append_breakup(std::shared_ptr<const v1::RunEvent> event, std::vecto
   Pending p;
   p.event = std::move(event);
   p.fragments = std::make_shared<const std::vector<StoredFragment>>(std::move(fragments));
-  {
-    std::lock_guard lock(queue_mutex_);
-    queue_.push_back(std::move(p));
-    ++appended_;
-  }
-  queue_cv_.notify_one();
+  enqueue(std::move(p));
 }
 
 void Store::append_checkpoint(std::int64_t run_id, std::uint64_t last_seq, std::int64_t step,
@@ -73,24 +72,14 @@ void Store::discard_waiting_checkpoint(std::int64_t run_id) {
   p.is_checkpoint = true;
   p.discard = true;
   p.run_id = run_id;
-  {
-    std::lock_guard lock(queue_mutex_);
-    queue_.push_back(std::move(p));
-    ++appended_;
-  }
-  queue_cv_.notify_one();
+  enqueue(std::move(p));
 }
 
 void Store::forget_write_failure(std::int64_t run_id) {
   Pending p;
   p.resume = true;
   p.run_id = run_id;
-  {
-    std::lock_guard lock(queue_mutex_);
-    queue_.push_back(std::move(p));
-    ++appended_;
-  }
-  queue_cv_.notify_one();
+  enqueue(std::move(p));
 }
 
 void Store::append_checkpoint(std::int64_t run_id, std::uint64_t last_seq, std::int64_t step,
@@ -101,12 +90,7 @@ void Store::append_checkpoint(std::int64_t run_id, std::uint64_t last_seq, std::
   p.last_seq = last_seq;
   p.step = step;
   p.checkpoint = std::move(bytes);
-  {
-    std::lock_guard lock(queue_mutex_);
-    queue_.push_back(std::move(p));
-    ++appended_;
-  }
-  queue_cv_.notify_one();
+  enqueue(std::move(p));
 }
 
 void Store::flush() {

@@ -164,17 +164,6 @@ class PrintingSink final : public EventSink {
   std::vector<std::filesystem::path> written_;
 };
 
-// The events of a rank that computes the run without printing it.
-class SilentSink final : public EventSink {
- public:
-  void on_encounter(std::uint64_t, const Encounter&) override {}
-  void on_burn_up(std::uint64_t, const BurnUp&) override {}
-  void on_progress(std::uint64_t, const Progress&) override {}
-  void on_checkpoint(std::uint64_t, std::int64_t, const std::string&) override {}
-  void on_finished(const RunSummary&) override {}
-  void on_failed(const std::string&) override {}
-};
-
 // The scenario read and checked, the checkpoint directory made: nullopt, else the exit code.
 std::optional<int> prepare(const LocalRunOptions& o, v1::Scenario& scenario) {
   if (!o.local) {
@@ -257,7 +246,7 @@ int run_local(const LocalRunOptions& o, OutputFormat format) {
 
   const SimulationConfig config = to_simulation_config(scenario, o.build.threads);
   PrintingSink printing(json, config.start_epoch, o.checkpoint_dir, o.program);
-  SilentSink silent;
+  NullSink silent;
   EventSink& sink = o.sink && o.prints ? *o.sink : prints ? static_cast<EventSink&>(printing) : silent;
   if (prints) printing.set_names(sim->population());
   RunControl control;

@@ -12,17 +12,6 @@ namespace {
 
 constexpr int kResultTag = 47;
 
-// A member's events go nowhere: its summary is what the ensemble reports.
-class MemberSink final : public EventSink {
- public:
-  void on_encounter(std::uint64_t, const Encounter&) override {}
-  void on_burn_up(std::uint64_t, const BurnUp&) override {}
-  void on_progress(std::uint64_t, const Progress&) override {}
-  void on_checkpoint(std::uint64_t, std::int64_t, const std::string&) override {}
-  void on_finished(const RunSummary&) override {}
-  void on_failed(const std::string&) override {}
-};
-
 std::string member_line(std::uint64_t member, std::uint64_t seed, int exit, const RunSummary& s, bool json) {
   std::ostringstream line;
   const char* state = exit == kExitOk ? "succeeded" : "failed";
@@ -105,7 +94,7 @@ int run_ensemble(const LocalRunOptions& base, const v1::Scenario& scenario, cons
     for (std::uint64_t m = static_cast<std::uint64_t>(group); m < members;
          m += static_cast<std::uint64_t>(groups)) {
       member_scenario.set_seed(base_seed + m);
-      MemberSink sink;
+      NullSink sink;
       RunSummary summary;
       LocalRunOptions run = base;
       run.scenario = &member_scenario;

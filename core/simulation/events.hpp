@@ -116,4 +116,16 @@ class EventSink {
   virtual void on_failed(const std::string& reason) = 0;
 };
 
+// Hears every event and keeps none: for a run whose summary is all that is wanted (a rank that does not
+// print, an ensemble member, a benchmark); derive to keep one kind.
+class NullSink : public EventSink {
+ public:
+  void on_encounter(std::uint64_t, const Encounter&) override {}
+  void on_burn_up(std::uint64_t, const BurnUp&) override {}
+  void on_progress(std::uint64_t, const Progress&) override {}
+  void on_checkpoint(std::uint64_t, std::int64_t, const std::string&) override {}
+  void on_finished(const RunSummary&) override {}
+  void on_failed(const std::string&) override {}
+};
+
 }  // namespace kessler

@@ -11,17 +11,12 @@
 namespace kessler::bench {
 namespace {
 
-class NullSink final : public EventSink {
+class CheckpointSizeSink final : public NullSink {
  public:
   std::uint64_t checkpoint_bytes = 0;
-  void on_encounter(std::uint64_t, const Encounter&) override {}
-  void on_burn_up(std::uint64_t, const BurnUp&) override {}
-  void on_progress(std::uint64_t, const Progress&) override {}
   void on_checkpoint(std::uint64_t, std::int64_t, const std::string& bytes) override {
     checkpoint_bytes = bytes.size();
   }
-  void on_finished(const RunSummary&) override {}
-  void on_failed(const std::string&) override {}
 };
 
 int run(int argc, char** argv) {
@@ -53,7 +48,7 @@ int run(int argc, char** argv) {
 
   std::vector<double> total, integrator, burn_up, grid, detection, output, checkpoint;
   RunSummary last;
-  NullSink sink;
+  CheckpointSizeSink sink;
   for (int rep = 0; rep < repeats; ++rep) {
     FieldError build_error;
     auto sim = build_simulation(scenario, options, &build_error);

@@ -22,16 +22,6 @@
 namespace kessler::bench {
 namespace {
 
-class NullSink final : public EventSink {
- public:
-  void on_encounter(std::uint64_t, const Encounter&) override {}
-  void on_burn_up(std::uint64_t, const BurnUp&) override {}
-  void on_progress(std::uint64_t, const Progress&) override {}
-  void on_checkpoint(std::uint64_t, std::int64_t, const std::string&) override {}
-  void on_finished(const RunSummary&) override {}
-  void on_failed(const std::string&) override {}
-};
-
 // CPU seconds of the calling thread: the store's writer works beside it.
 double thread_cpu_s() {
   timespec ts{};

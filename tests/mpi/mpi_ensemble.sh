@@ -4,16 +4,8 @@
 # with the members spread over 2 and 3 groups of one rank and over one group of 2 ranks (a third rank
 # idle); more ranks per member than the job has: exit 2.
 # Usage: mpi_ensemble.sh KESSLER KESSLER_MPI MPIEXEC SCENARIO (SCENARIO without ensemble or seed lines)
-set -e
-kessler="$1"
-kessler_mpi="$2"
-mpiexec="$3"
-scenario="$4"
-dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_mpi_yield_when_idle=1
-export OMPI_MCA_rmaps_base_oversubscribe=1 OMP_NUM_THREADS=1
-fingerprint() { grep -o '"events_digest":"[0-9a-f]*","state_digest":"[0-9a-f]*"'; }
+. "$(dirname "$0")/common.sh"
+export OMP_NUM_THREADS=1
 base_seed=21
 (grep -v '^\(seed\|ensemble\):' "$scenario"; echo "seed: $base_seed"; echo "ensemble: {members: 3}") \
   >"$dir/ensemble.yaml"

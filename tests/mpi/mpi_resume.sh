@@ -2,16 +2,8 @@
 # A run checkpointed under 2 ranks, resumed under 3 ranks and under 1 (kessler-mpi) and by kessler run
 # --local, must end with the fingerprint of the uninterrupted run without MPI.
 # Usage: mpi_resume.sh KESSLER KESSLER_MPI MPIEXEC SCENARIO
-set -e
-kessler="$1"
-kessler_mpi="$2"
-mpiexec="$3"
-scenario="$4"
-dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_mpi_yield_when_idle=1
-export OMPI_MCA_rmaps_base_oversubscribe=1 OMP_NUM_THREADS=1
-fingerprint() { tail -n 1 | grep -o '"events_digest":"[0-9a-f]*","state_digest":"[0-9a-f]*"'; }
+. "$(dirname "$0")/common.sh"
+export OMP_NUM_THREADS=1
 whole=$("$kessler" run "$scenario" --local --threads 2 --output json | fingerprint)
 under2=$("$mpiexec" -np 2 "$kessler_mpi" "$scenario" --threads 1 --checkpoint-dir "$dir" --output json | fingerprint)
 checkpoint=$(ls "$dir"/checkpoint-*.ckpt | head -n 1)

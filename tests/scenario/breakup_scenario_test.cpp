@@ -231,14 +231,9 @@ TEST(BreakupMapping, NoBreakupsBlockGivesTheCoreDefaults) {
   EXPECT_EQ(to_simulation_config(s).breakups.on_collision, CollisionResponse::kFragment);
 }
 
-class NoEvents : public EventSink {
+class NoEvents : public NullSink {
  public:
-  void on_encounter(std::uint64_t, const Encounter&) override {}
-  void on_burn_up(std::uint64_t, const BurnUp&) override {}
-  void on_progress(std::uint64_t, const Progress&) override {}
   void on_checkpoint(std::uint64_t, std::int64_t, const std::string& bytes) override { checkpoint = bytes; }
-  void on_finished(const RunSummary&) override {}
-  void on_failed(const std::string&) override {}
   std::string checkpoint;
 };
 

@@ -30,6 +30,16 @@ std::string synthetic(double days) {
          "checkpoints:\n  every_steps: 5\nseed: 3\n";
 }
 
+// One thread a run, every checkpoint written, the store probed every 50 ms while it cannot write.
+server::ManagerOptions fault_options(const TempDir& dir) {
+  server::ManagerOptions options;
+  options.db_path = dir.path() + "/k.db";
+  options.threads_per_run = 1;
+  options.store_probe_interval = std::chrono::milliseconds(50);
+  options.min_checkpoint_interval = std::chrono::milliseconds(0);
+  return options;
+}
+
 v1::Run submit(RunManager& m, const std::string& text) {
   v1::SubmitRunRequest request;
   request.set_scenario_text(text);
@@ -72,12 +82,7 @@ int health(const std::string& address, const std::string& service) {
 
 TEST(StoreFaultsEndToEnd, AWriteFailureFailsTheRunAndTheDaemonServesWaitsAndRecovers) {
   TempDir dir;
-  server::ManagerOptions options;
-  options.db_path = dir.path() + "/k.db";
-  options.threads_per_run = 1;
-  options.store_probe_interval = std::chrono::milliseconds(50);
-  options.min_checkpoint_interval = std::chrono::milliseconds(0);
-  RunManager m(options);
+  RunManager m(fault_options(dir));
   server::ApiServer api(m, "127.0.0.1:0", 64 << 20);
   const std::string address = "127.0.0.1:" + std::to_string(api.port());
 
@@ -147,12 +152,7 @@ TEST(StoreFaultsEndToEnd, ARunThatEmitsMoreEventsThanItsLimitFailsSayingSo) {
 // write again, and ends with the digests and the events of the same scenario run without a fault.
 TEST(StoreFaultsEndToEnd, ARunFailedByAFullDiskResumesAndEndsAsAnUninterruptedRun) {
   TempDir dir;
-  server::ManagerOptions options;
-  options.db_path = dir.path() + "/k.db";
-  options.threads_per_run = 1;
-  options.store_probe_interval = std::chrono::milliseconds(50);
-  options.min_checkpoint_interval = std::chrono::milliseconds(0);
-  RunManager m(options);
+  RunManager m(fault_options(dir));
   const v1::Run reference = wait_for(m, submit(m, synthetic(0.3)).id(), ended);
   ASSERT_EQ(reference.state(), v1::RUN_STATE_SUCCEEDED) << reference.error();
   auto expect_refused = [&](std::int64_t id, ServiceError::Code code, const std::string& says) {
