@@ -205,6 +205,14 @@ std::unique_ptr<Simulation> build(const LocalRunOptions& o, const v1::Scenario& 
                                   std::optional<IngestReport>& ingest) {
   BuildOptions options = o.build;
   options.checkpoints = !o.checkpoint_dir.empty() || o.sink_checkpoints;
+  if (!o.sink) {
+    // Population snapshots are for a daemon's store: nothing here prints them, and each is a pass over
+    // the whole population. They never change a result (nor the configuration key a checkpoint carries).
+    options.adjust_config = [adjust = options.adjust_config](SimulationConfig& config) {
+      if (adjust) adjust(config);
+      config.snapshot_every_steps = 0;
+    };
+  }
   FieldError error;
   std::unique_ptr<Simulation> sim;
   if (!o.resume_path.empty()) {

@@ -191,11 +191,6 @@ int run_ranks(MpiOptions& o, distributed::RankTeam& team) {
     count_stop_lines();
   }
   StopAgreement agreement(team, !run.checkpoint_dir.empty() || o.event_stream);
-  // Population snapshots are for the daemon's store; nothing here prints them (as in kessler run --local),
-  // and taking them is a pass over the whole population on every rank. They never change a result.
-  // Under kesslerd (--event-stream) they are taken for its store.
-  if (!o.event_stream)
-    run.build.adjust_config = [](SimulationConfig& config) { config.snapshot_every_steps = 0; };
   run.build.adjust_parts = [&](const SimulationConfig& config, SimulationParts& parts) {
     auto shared = std::make_unique<distributed::DistributedPropagator>(std::move(parts.propagator), team);
     parts.propagator = std::make_unique<AgreeingPropagator>(std::move(shared), agreement);
