@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/scenario/run_builder.hpp"
+#include "tests/scenario/verdict_table.hpp"
 
 namespace kessler {
 namespace {
@@ -29,11 +30,7 @@ std::string third_event(const std::string& event) {
       event + "\n");
 }
 
-struct Case {
-  const char* name;
-  std::string text;
-  const char* expected;
-};
+using Case = test::VerdictCase;
 
 const Case kRefusals[] = {
     {"lc zero", with_breakups("  min_characteristic_length_m: 0\n"),
@@ -109,23 +106,10 @@ const Case kRefusals[] = {
 class BreakupRefusals : public ::testing::TestWithParam<Case> {};
 
 TEST_P(BreakupRefusals, NameTheFieldAndTheReason) {
-  const Case& c = GetParam();
-  v1::Scenario scenario;
-  std::optional<FieldError> error = parse_scenario(c.text, scenario);
-  if (!error) error = validate_scenario(scenario);
-  ASSERT_TRUE(error) << c.text;
-  if (std::string(c.expected).back() == ' ')
-    EXPECT_EQ(error->message().rfind(c.expected, 0), 0u) << error->message();
-  else
-    EXPECT_EQ(error->message(), c.expected);
+  test::expect_verdict(GetParam());
 }
 
-INSTANTIATE_TEST_SUITE_P(Table, BreakupRefusals, ::testing::ValuesIn(kRefusals), [](const auto& info) {
-  std::string name = info.param.name;
-  for (auto& ch : name)
-    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-  return name;
-});
+INSTANTIATE_TEST_SUITE_P(Table, BreakupRefusals, ::testing::ValuesIn(kRefusals), test::VerdictCaseName());
 
 // What only the API can send: numbers the YAML parser refuses (non-finite values, unknown enum numbers).
 v1::Scenario api_scenario() {

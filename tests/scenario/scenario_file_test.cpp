@@ -4,16 +4,13 @@
 #include <filesystem>
 
 #include "core/scenario/run_builder.hpp"
+#include "tests/scenario/verdict_table.hpp"
 
 namespace kessler {
 namespace {
 
 // "" expected: the text parses and validates.
-struct Case {
-  const char* name;
-  const char* text;
-  const char* expected;
-};
+using Case = test::VerdictCase;
 
 const Case kCases[] = {
     {"minimal", "population: {dataset: leo-19647}", ""},
@@ -140,19 +137,10 @@ seed: 42
 class ScenarioFiles : public ::testing::TestWithParam<Case> {};
 
 TEST_P(ScenarioFiles, GiveTheExpectedVerdict) {
-  const Case& c = GetParam();
-  v1::Scenario scenario;
-  std::optional<FieldError> error = parse_scenario(c.text, scenario);
-  if (!error) error = validate_scenario(scenario);
-  EXPECT_EQ(error ? error->message() : "", c.expected);
+  test::expect_verdict(GetParam());
 }
 
-INSTANTIATE_TEST_SUITE_P(Table, ScenarioFiles, ::testing::ValuesIn(kCases), [](const auto& info) {
-  std::string name = info.param.name;
-  for (auto& ch : name)
-    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-  return name;
-});
+INSTANTIATE_TEST_SUITE_P(Table, ScenarioFiles, ::testing::ValuesIn(kCases), test::VerdictCaseName());
 
 TEST(ScenarioMapping, IntegratorNamesMapOntoTheCompositions) {
   v1::Scenario s;
