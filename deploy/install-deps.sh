@@ -14,7 +14,7 @@ packages=(
   nlohmann-json3-dev libcpp-httplib-dev
   libopenmpi-dev openmpi-bin
   chromium chromium-driver
-  clang-14 libfuzzer-14-dev
+  clang-14 libfuzzer-14-dev ccache
   nlohmann-json3-dev
 )
 # The web assets' installer; a node from elsewhere (e.g. NodeSource's, which brings its own npm) will do.

@@ -48,12 +48,12 @@ std::string scenario_yaml(std::int64_t objects, std::int64_t steps) {
 }
 
 // One job; nullopt (with the job's output on stderr) when it failed or printed no timing line.
-std::optional<MpiTiming> run_job(const std::string& mpirun, const std::string& program, const std::string& dir,
-                                 int ranks, int threads) {
+std::optional<MpiTiming> run_job(const std::string& mpirun, const std::string& program,
+                                 const std::string& dir, int ranks, int threads) {
   const std::string err = dir + "/timing.err";
-  const std::string command = "OMP_NUM_THREADS=" + std::to_string(threads) + " OMP_PROC_BIND=false '" + mpirun +
-                              "' -np " + std::to_string(ranks) + " --bind-to none '" + program + "' '" + dir +
-                              "/scenario.yaml' --threads " + std::to_string(threads) +
+  const std::string command = "OMP_NUM_THREADS=" + std::to_string(threads) + " OMP_PROC_BIND=false '" +
+                              mpirun + "' -np " + std::to_string(ranks) + " --bind-to none '" + program +
+                              "' '" + dir + "/scenario.yaml' --threads " + std::to_string(threads) +
                               " --output json --timing > '" + dir + "/out.jsonl' 2> '" + err + "'";
   const int status = std::system(command.c_str());
   std::ifstream in(err);
@@ -91,8 +91,9 @@ int run(int argc, char** argv) {
   const std::string mpirun = args.get("--mpirun", "mpirun");
   const std::string program = args.get("--kessler-mpi", beside_this_program("kessler-mpi"));
   if (ranks <= 0 || threads <= 0 || objects < ranks || steps <= 0 || repeats <= 0) {
-    std::cerr << "kessler-bench mpi: --ranks, --threads, --steps, --repeats must be positive and --objects at "
-                 "least --ranks\n";
+    std::cerr
+        << "kessler-bench mpi: --ranks, --threads, --steps, --repeats must be positive and --objects at "
+           "least --ranks\n";
     return 2;
   }
   if (access(program.c_str(), X_OK) != 0) {
@@ -126,7 +127,8 @@ int run(int argc, char** argv) {
     bytes.push_back(split->rss_bytes_per_object);
     mib.push_back(split->rss_mib);
     std::printf("round %d: 1 x %d %.1f ns, %d x %d %.1f ns (MPI %.1f %%)\n", rep + 1, ranks * threads,
-                single->ns_per_object_step, ranks, threads, split->ns_per_object_step, 100.0 * split->mpi_share);
+                single->ns_per_object_step, ranks, threads, split->ns_per_object_step,
+                100.0 * split->mpi_share);
   }
   std::filesystem::remove_all(dir);
   const double split_ns = median(many), single_ns = median(one_rank);

@@ -12,11 +12,14 @@
 
 #include <Eigen/Geometry>
 
+#include "core/catalog/object_properties.hpp"
 #include "core/catalog/satcat.hpp"
 #include "core/catalog/tle.hpp"
+#include "core/physics/atmosphere.hpp"
 #include "core/physics/constants.hpp"
 #include "core/traffic/business_as_usual.hpp"
 #include "core/traffic/launch_plan.hpp"
+#include "core/traffic/lifecycle.hpp"
 
 namespace kessler {
 namespace {
@@ -135,7 +138,9 @@ TEST(LaunchPlan, BadPlansAreRefusedWithTheLineAndColumn) {
 }
 
 // The 2022 catalog's objects launched 2013-2020 (SATCAT launch dates), relaunched 8 years later: each
-// row is a record of the window on its own orbit, exactly one cycle after its launch date.
+// row is a record of the window on its own orbit, exactly one cycle after its launch date. Objects that
+// decayed before the catalog are relaunched too, passive, on a circular orbit that decays in the time they
+// lived, in the plane of their launch's first object in LEO.
 TEST(BusinessAsUsual, RepeatsTheWindowsLaunchesOneCycleLater) {
   std::string error;
   const auto satcat = read_catalog_file(
@@ -151,23 +156,69 @@ TEST(BusinessAsUsual, RepeatsTheWindowsLaunchesOneCycleLater) {
   const UtcEpoch window_end = UtcEpoch::from_calendar(2021, 1, 1, 0, 0, 0.0);
   const UtcEpoch until = UtcEpoch::from_calendar(2029, 1, 1, 0, 0, 0.0);
   const LaunchPlan plan = business_as_usual_plan(records, window_end, 8.0, until);
-  std::size_t in_window = 0;
+  std::size_t in_window = 0, decayed = 0;
   for (const LaunchRecord& r : records) {
     const double age = window_end.seconds_since(r.launch);
-    in_window += age > 0.0 && age <= 8.0 * 365.25 * 86400.0 && r.perigee_km < 2000.0 &&
-                 r.perigee_km >= 100.0 && r.apogee_km <= 40000.0;
+    if (!(age > 0.0 && age <= 8.0 * 365.25 * 86400.0)) continue;
+    decayed += r.lived_years > 0.0;
+    in_window +=
+        r.lived_years > 0.0 || (r.perigee_km < 2000.0 && r.perigee_km >= 100.0 && r.apogee_km <= 40000.0);
   }
-  ASSERT_GT(in_window, 1000u);             // Starlink alone launched about a thousand in 2019-2020
+  ASSERT_GT(in_window, 1000u);  // Starlink alone launched about a thousand in 2019-2020
+  // Counted from the two files on their own: payloads and rocket bodies launched 2013-2020 with no
+  // element set in 2022, a SATCAT decay date after their launch date, and an object of their launch
+  // (INTLDES year-number) in the 2022 catalog with a perigee below 2,000 km.
+  EXPECT_EQ(decayed, 210u);
   EXPECT_EQ(plan.rows.size(), in_window);  // one cycle in 8 years: each once
   std::map<std::string, const LaunchRecord*> by_label;
   for (const LaunchRecord& r : records) by_label["business as usual: " + std::to_string(r.id)] = &r;
   for (const LaunchRow& row : plan.rows) {
     const LaunchRecord& r = *by_label.at(row.label);
     EXPECT_NEAR(row.epoch.seconds_since(r.launch), 8.0 * 365.25 * 86400.0, 1e-3);
-    EXPECT_EQ(row.perigee_km, r.perigee_km);
     EXPECT_EQ(row.inclination_deg, r.inclination_deg);
     EXPECT_EQ(row.type, r.type);
+    if (r.lived_years > 0.0) {
+      EXPECT_EQ(row.perigee_km, row.apogee_km);
+      EXPECT_EQ(row.lifetime_years, 0.0);  // passive from launch
+      EXPECT_FALSE(row.manoeuvres);
+    } else {
+      EXPECT_EQ(row.perigee_km, r.perigee_km);
+    }
   }
+  // Three rocket bodies of 2019 that decayed within weeks, and their launches' planes in the 2022
+  // catalog: CZ-11 (SATCAT 43945, 7 days, 97.5157 deg), Antares (44206, 11 days, 51.6399 deg), Electron
+  // (44228, 12 days, 40.0161 deg).
+  const std::map<ObjectId, std::pair<double, double>> expected = {
+      {43945, {7.0, 97.5157}}, {44206, {11.0, 51.6399}}, {44228, {12.0, 40.0161}}};
+  std::size_t found = 0;
+  for (const LaunchRecord& r : records) {
+    auto it = expected.find(r.id);
+    if (it == expected.end()) continue;
+    ++found;
+    EXPECT_NEAR(r.lived_years * 365.25, it->second.first, 1e-9) << r.id;
+    EXPECT_NEAR(r.inclination_deg, it->second.second, 1e-3) << r.id;
+  }
+  EXPECT_EQ(found, 3u);
+}
+
+// A decayed object's relaunch orbit decays, in the model that sets disposal orbits, in the time it lived.
+TEST(BusinessAsUsual, ADecayedObjectsOrbitDecaysInTheTimeItLived) {
+  const double inclination = 51.6;
+  for (double years : {0.05, 0.5, 2.0, 6.0}) {
+    for (ObjectType type : {ObjectType::kPayload, ObjectType::kRocketBody}) {
+      const double h_km = altitude_for_lifetime_km(years, inclination, type);
+      const bool payload = type == ObjectType::kPayload;
+      const double cda = drag_area_to_mass_from_size(payload ? 1.5 : 2.0, payload ? 260.0 : 1500.0, 2.2);
+      const double lived = circular_decay_years(h_km * 1e3, inclination * std::numbers::pi / 180.0, cda,
+                                                150.0e3, DensityTable::standard());
+      EXPECT_GT(h_km, 160.0);
+      EXPECT_LT(h_km, 700.0);
+      EXPECT_NEAR(lived, years, 0.03 * years) << years << " years, " << h_km << " km";
+    }
+  }
+  // Longer lives need higher orbits.
+  EXPECT_LT(altitude_for_lifetime_km(0.5, inclination, ObjectType::kPayload),
+            altitude_for_lifetime_km(2.0, inclination, ObjectType::kPayload));
 }
 
 }  // namespace
