@@ -251,10 +251,11 @@ TEST_F(Reflection, TheApiRebuiltFromReflectedDescriptorsAnswersCalls) {
   ASSERT_NE(service, nullptr);
   std::set<std::string> methods;
   for (int i = 0; i < service->method_count(); ++i) methods.insert(service->method(i)->name());
-  EXPECT_EQ(methods, (std::set<std::string>{"SubmitRun", "GetRun", "ListRuns", "CancelRun", "DeleteRun",
-                                            "WatchRun", "ListConjunctions", "GetConjunctionCdm", "GetRunStats",
-                                            "ListFragments", "SubmitEnsemble", "GetEnsemble", "ListEnsembles",
-                                            "CancelEnsemble", "GetFigures", "ListSnapshots", "GetSnapshot"}));
+  EXPECT_EQ(methods,
+            (std::set<std::string>{"SubmitRun", "GetRun", "ListRuns", "CancelRun", "ResumeRun", "DeleteRun",
+                                   "WatchRun", "ListConjunctions", "GetConjunctionCdm", "GetRunStats",
+                                   "ListFragments", "SubmitEnsemble", "GetEnsemble", "ListEnsembles",
+                                   "CancelEnsemble", "GetFigures", "ListSnapshots", "GetSnapshot"}));
   const auto* watch = service->FindMethodByName("WatchRun");
   ASSERT_NE(watch, nullptr);
   EXPECT_TRUE(watch->server_streaming());
