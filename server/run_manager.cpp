@@ -411,9 +411,9 @@ v1::Run RunManager::resume(std::int64_t run_id) {
   v1::Run run = get(run_id, false);
   require_not_quarantined(run_id);
   if (run.state() != v1::RUN_STATE_FAILED && run.state() != v1::RUN_STATE_CANCELLED)
-    throw ServiceError(Code::kFailedPrecondition,
-                       "run " + std::to_string(run_id) + " is " + run_state_name(run.state()) +
-                           "; only a failed or cancelled run resumes");
+    throw ServiceError(Code::kFailedPrecondition, "run " + std::to_string(run_id) + " is " +
+                                                      run_state_name(run.state()) +
+                                                      "; only a failed or cancelled run resumes");
   require_writable();
   if (scheduler_->queued() >= options_.queue_limit)
     throw ServiceError(Code::kResourceExhausted, "queue full: " + std::to_string(options_.queue_limit) +

@@ -61,7 +61,8 @@ std::pair<std::int64_t, std::vector<std::int64_t>> Store::create_ensemble(
 
 std::optional<StoredEnsemble> Store::get_ensemble(std::int64_t ensemble_id, bool with_scenario) {
   Lease lease(*this);
-  Statement s(lease.db(), std::string("SELECT ") + kEnsembleColumns + ", scenario FROM ensembles WHERE id = ?");
+  Statement s(lease.db(),
+              std::string("SELECT ") + kEnsembleColumns + ", scenario FROM ensembles WHERE id = ?");
   s.bind(1, ensemble_id);
   if (!s.step()) return std::nullopt;
   StoredEnsemble e = ensemble_from_row(s);
@@ -80,7 +81,8 @@ Page<StoredEnsemble> Store::list_ensembles(int page_size, const std::string& pag
     } catch (...) {
       used = 0;
     }
-    if (used != page_token.size()) throw std::invalid_argument("page_token: not a token from a previous page");
+    if (used != page_token.size())
+      throw std::invalid_argument("page_token: not a token from a previous page");
   }
   Lease lease(*this);
   Statement s(lease.db(), std::string("SELECT ") + kEnsembleColumns + " FROM ensembles WHERE id < ?" +
@@ -149,7 +151,8 @@ MemberResults Store::member_results(std::int64_t run_id, const std::vector<doubl
     }
   }
   {
-    Statement s(lease.db(), "SELECT time_s FROM breakups WHERE run_id = ? AND source = ? AND catastrophic = 1");
+    Statement s(lease.db(),
+                "SELECT time_s FROM breakups WHERE run_id = ? AND source = ? AND catastrophic = 1");
     s.bind(1, run_id).bind(2, static_cast<int>(v1::BREAKUP_SOURCE_COLLISION));
     while (s.step()) out.catastrophic_times.push_back(s.f64(0));
   }

@@ -208,9 +208,8 @@ void Store::writer_loop() {
     }
     // A run whose events could not be written gets nothing more written (its later checkpoints would
     // skip the lost events): it fails, or resumes from a checkpoint taken before them.
-    done += static_cast<std::uint64_t>(std::erase_if(to_write, [&](const Pending& p) {
-      return failed_runs.count(p.run()) > 0;
-    }));
+    done += static_cast<std::uint64_t>(
+        std::erase_if(to_write, [&](const Pending& p) { return failed_runs.count(p.run()) > 0; }));
     if (!to_write.empty()) {
       // A failed batch (disk full, read-only, I/O error, a table gone) is rolled back and its runs
       // told; the writer goes on, and the next batch that commits marks the store writable again.

@@ -169,7 +169,8 @@ CommandRun setup_show(CLI::App& command, GlobalOptions& global) {
   command.footer(
       "Shows a run: its scenario, the ingest report of its catalog, state, times, phase timers, conjunction "
       "counts by kappa over time, launches, ends of life and disposals (runs with traffic), the population "
-      "at its first and newest snapshots (objects by kind and status, median sizes, the spatial density's peak) and its summary."
+      "at its first and newest snapshots (objects by kind and status, median sizes, the spatial density's "
+      "peak) and its summary."
       "\n\n"
       "example:\n  kessler show 1 --kappas 0.5,1,10");
   return [o, &global] { return show(*o, global); };

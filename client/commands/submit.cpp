@@ -21,7 +21,7 @@ namespace {
 struct SubmitOptions {
   std::string scenario_path, catalog_path;
   bool watch = false;
-  int threads = -1;  // -1: not given (the daemon's --threads)
+  int threads = -1;           // -1: not given (the daemon's --threads)
   std::int64_t members = -1;  // -1: not given (the scenario's ensemble, if any)
   std::string request_id;     // empty: a fresh one
   WatchOptions follow;
@@ -81,10 +81,13 @@ CallResult submit_with_retry(const SubmitOptions& o, Call&& call) {
 
 int submit_ensemble(const SubmitOptions& o, const v1::SubmitRunRequest& run_request, OutputFormat format,
                     RemoteClient& client) {
-  if (o.watch) return usage_error("submit", "--watch follows one run; an ensemble's members are runs to watch");
+  if (o.watch)
+    return usage_error("submit", "--watch follows one run; an ensemble's members are runs to watch");
   v1::SubmitEnsembleRequest request;
-  if (run_request.has_scenario()) *request.mutable_scenario() = run_request.scenario();
-  else request.set_scenario_text(run_request.scenario_text());
+  if (run_request.has_scenario())
+    *request.mutable_scenario() = run_request.scenario();
+  else
+    request.set_scenario_text(run_request.scenario_text());
   request.set_threads(run_request.threads());
   request.set_request_id(run_request.request_id());
   if (o.members > 0) request.set_members(static_cast<std::uint64_t>(o.members));
@@ -95,7 +98,8 @@ int submit_ensemble(const SubmitOptions& o, const v1::SubmitRunRequest& run_requ
     return r.exit_code();
   }
   std::string run_ids;
-  for (const auto& m : ensemble.member()) run_ids += (run_ids.empty() ? "" : ",") + std::to_string(m.run_id());
+  for (const auto& m : ensemble.member())
+    run_ids += (run_ids.empty() ? "" : ",") + std::to_string(m.run_id());
   if (format == OutputFormat::kJson)
     std::cout << JsonObject()
                      .add("ensemble_id", static_cast<std::int64_t>(ensemble.id()))

@@ -197,7 +197,8 @@ CallResult RemoteClient::get_ensemble(const v1::GetEnsembleRequest& request, v1:
   return unary(*impl_->stub, &v1::KesslerService::Stub::GetEnsemble, request, out);
 }
 
-CallResult RemoteClient::list_ensembles(const v1::ListEnsemblesRequest& request, v1::ListEnsemblesResponse& out) {
+CallResult RemoteClient::list_ensembles(const v1::ListEnsemblesRequest& request,
+                                        v1::ListEnsemblesResponse& out) {
   return unary(*impl_->stub, &v1::KesslerService::Stub::ListEnsembles, request, out);
 }
 

@@ -51,8 +51,7 @@ void BroadPhaseGrid::collect_oversized_pairs(std::size_t begin, std::size_t end,
       // can meet it, in the order the scan below would find them.
       for (std::size_t p = o + 1; p < oversized_.size(); ++p) {
         const std::size_t j = oversized_[p];
-        if (overlaps(j))
-          keep_pair(out, static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
+        if (overlaps(j)) keep_pair(out, static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
       }
       continue;
     }

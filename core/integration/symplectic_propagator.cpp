@@ -155,7 +155,8 @@ void range_with(const StepArrays& s, long begin, long end, const StepPlan& plan,
     if (start != nullptr)
       composed_range<kAtmosphere, true, kKicks>(s, begin, end, plan, start, burn_up_flags, burn_up_radius2);
     else
-      composed_range<kAtmosphere, false, kKicks>(s, begin, end, plan, nullptr, burn_up_flags, burn_up_radius2);
+      composed_range<kAtmosphere, false, kKicks>(s, begin, end, plan, nullptr, burn_up_flags,
+                                                 burn_up_radius2);
   };
   switch (plan.atmosphere) {
     case AtmosphereModel::kDensityTable:

@@ -89,7 +89,8 @@ Eigen::Vector3d ForceModel::kick(const ForceInstant& f, const Eigen::Vector3d& r
                                                   object.srp_area_to_mass_m2_kg);
   else if (settings_.atmosphere == AtmosphereModel::kNrlmsise00)
     kessler::kick<AtmosphereModel::kNrlmsise00>(f, h_s, r.x(), r.y(), r.z(), out.x(), out.y(), out.z(),
-                                                object.drag_area_to_mass_m2_kg, object.srp_area_to_mass_m2_kg);
+                                                object.drag_area_to_mass_m2_kg,
+                                                object.srp_area_to_mass_m2_kg);
   else
     kessler::kick<AtmosphereModel::kExponentialFit>(f, h_s, r.x(), r.y(), r.z(), out.x(), out.y(), out.z(),
                                                     object.drag_area_to_mass_m2_kg,

@@ -61,8 +61,8 @@ inline constexpr int kUtSamples = 2 * kUtHarmonics + 1;
 
 // Density [kg/m^3] from a slot's grid at TEME position (x, y, z) [m] with altitude |r| - R_eq [m]; (sun_x,
 // sun_y) the Sun's direction in the equatorial plane (unit). Only + - * / sqrt and deterministic_exp.
-[[gnu::always_inline]] inline double msis_grid_density(const float* grid, double sun_x, double sun_y, double x,
-                                                       double y, double z, double altitude_m) {
+[[gnu::always_inline]] inline double msis_grid_density(const float* grid, double sun_x, double sun_y,
+                                                       double x, double y, double z, double altitude_m) {
   using namespace msis_grid;
   double hk = altitude_m * 1.0e-3 - kBase_km;
   hk = hk > 0.0 ? hk : 0.0;  // also NaN -> 0
@@ -90,7 +90,8 @@ inline constexpr int kUtSamples = 2 * kUtHarmonics + 1;
   constexpr int kT = kNu, kQ = kNu * kNt;
   const int i = (iq * kNt + it) * kNu + iu;
   const double g000 = grid[i], g001 = grid[i + 1], g010 = grid[i + kT], g011 = grid[i + kT + 1];
-  const double g100 = grid[i + kQ], g101 = grid[i + kQ + 1], g110 = grid[i + kQ + kT], g111 = grid[i + kQ + kT + 1];
+  const double g100 = grid[i + kQ], g101 = grid[i + kQ + 1], g110 = grid[i + kQ + kT],
+               g111 = grid[i + kQ + kT + 1];
   const double c00 = g000 + fu * (g001 - g000);
   const double c01 = g010 + fu * (g011 - g010);
   const double c10 = g100 + fu * (g101 - g100);
@@ -135,7 +136,7 @@ class MsisDensityGrid {
   SolarActivitySettings settings_;
   std::shared_ptr<const SpaceWeather> space_weather_;
   std::mutex mutex_;
-  std::deque<Day> days_;  // the last two days built
+  std::deque<Day> days_;                                                       // the last two days built
   std::deque<std::pair<std::int64_t, std::shared_ptr<const float[]>>> slots_;  // the last few
 };
 

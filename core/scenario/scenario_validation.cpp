@@ -49,8 +49,8 @@ std::optional<FieldError> validate_enums(const google::protobuf::Message& msg, c
         const int number =
             f->is_repeated() ? refl->GetRepeatedEnumValue(msg, f, i) : refl->GetEnumValue(msg, f);
         if (!f->enum_type()->FindValueByNumber(number))
-          return FieldError{at, "unknown value " + std::to_string(number) + " (expected one of: " +
-                                    short_enum_choices(f->enum_type()) + ")"};
+          return FieldError{at, "unknown value " + std::to_string(number) +
+                                    " (expected one of: " + short_enum_choices(f->enum_type()) + ")"};
       } else if (f->cpp_type() == pb::FieldDescriptor::CPPTYPE_MESSAGE) {
         const pb::Message& sub =
             f->is_repeated() ? refl->GetRepeatedMessage(msg, f, i) : refl->GetMessage(msg, f);
@@ -103,10 +103,12 @@ std::optional<FieldError> validate_solar_activity(const v1::ForceModel& f) {
     return FieldError{"force_model.solar_activity.mode", "unknown value " + std::to_string(sun.mode())};
   const bool constant = sun.mode() == v1::SOLAR_ACTIVITY_MODE_CONSTANT;
   if ((sun.has_f107_sfu() || sun.has_ap()) && !constant)
-    return FieldError{sun.has_f107_sfu() ? "force_model.solar_activity.f107_sfu" : "force_model.solar_activity.ap",
-                      "only the constant mode takes fixed values"};
+    return FieldError{
+        sun.has_f107_sfu() ? "force_model.solar_activity.f107_sfu" : "force_model.solar_activity.ap",
+        "only the constant mode takes fixed values"};
   if (sun.has_f107_sfu() && !(sun.f107_sfu() > 0.0 && sun.f107_sfu() <= 1000.0))
-    return FieldError{"force_model.solar_activity.f107_sfu", "must be in (0, 1000] sfu, got " + number(sun.f107_sfu())};
+    return FieldError{"force_model.solar_activity.f107_sfu",
+                      "must be in (0, 1000] sfu, got " + number(sun.f107_sfu())};
   if (sun.has_ap() && !(sun.ap() >= 0.0 && sun.ap() <= 400.0))
     return FieldError{"force_model.solar_activity.ap", "must be in [0, 400], got " + number(sun.ap())};
   return std::nullopt;
@@ -284,13 +286,15 @@ SimulationConfig to_simulation_config(const v1::Scenario& s, int threads) {
   c.force_model.drag = f.has_drag() ? f.drag() : true;
   c.force_model.srp = f.has_srp() ? f.srp() : true;
   c.force_model.srp_earth_shadow = f.has_srp_earth_shadow() ? f.srp_earth_shadow() : true;
-  c.force_model.atmosphere = f.atmosphere() == v1::ATMOSPHERE_EXPONENTIAL_FIT ? AtmosphereModel::kExponentialFit
-                              : f.atmosphere() == v1::ATMOSPHERE_NRLMSISE00     ? AtmosphereModel::kNrlmsise00
-                                                                                : AtmosphereModel::kDensityTable;
+  c.force_model.atmosphere = f.atmosphere() == v1::ATMOSPHERE_EXPONENTIAL_FIT
+                                 ? AtmosphereModel::kExponentialFit
+                             : f.atmosphere() == v1::ATMOSPHERE_NRLMSISE00 ? AtmosphereModel::kNrlmsise00
+                                                                           : AtmosphereModel::kDensityTable;
   const auto& sun = f.solar_activity();
-  c.force_model.solar_activity.mode = sun.mode() == v1::SOLAR_ACTIVITY_MODE_CYCLE      ? SolarActivityMode::kCycle
-                                      : sun.mode() == v1::SOLAR_ACTIVITY_MODE_CONSTANT ? SolarActivityMode::kConstant
-                                                                                       : SolarActivityMode::kObserved;
+  c.force_model.solar_activity.mode = sun.mode() == v1::SOLAR_ACTIVITY_MODE_CYCLE ? SolarActivityMode::kCycle
+                                      : sun.mode() == v1::SOLAR_ACTIVITY_MODE_CONSTANT
+                                          ? SolarActivityMode::kConstant
+                                          : SolarActivityMode::kObserved;
   c.force_model.solar_activity.f107_sfu = sun.has_f107_sfu() ? sun.f107_sfu() : d::kConstantF107Sfu;
   c.force_model.solar_activity.ap = sun.has_ap() ? sun.ap() : d::kConstantAp;
   const auto& k = s.conjunctions();

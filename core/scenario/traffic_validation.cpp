@@ -163,7 +163,8 @@ std::optional<FieldError> validate_traffic(const v1::Scenario& scenario) {
                       "traffic needs the numerical propagator (SGP4 cannot move launched objects, which have "
                       "no element sets); set propagator: numerical or leave it out"};
   const bool bau = t.business_as_usual().has_enabled() && t.business_as_usual().enabled();
-  if (t.launch_plan_csv().empty() && t.plans_size() == 0 && !bau && !(t.catalog_active_lifetime_years() > 0.0))
+  if (t.launch_plan_csv().empty() && t.plans_size() == 0 && !bau &&
+      !(t.catalog_active_lifetime_years() > 0.0))
     return FieldError{"traffic.enabled",
                       "nothing to do: give launch_plan_csv, plans, business_as_usual (enabled: true) or "
                       "catalog_active_lifetime_years"};

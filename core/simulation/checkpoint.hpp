@@ -9,8 +9,8 @@
 
 #include "core/conjunctions/encounter.hpp"
 #include "core/population/population.hpp"
-#include "core/simulation/events.hpp"
 #include "core/simulation/breakups.hpp"
+#include "core/simulation/events.hpp"
 
 namespace kessler {
 

@@ -35,7 +35,7 @@ struct Progress {
   std::int64_t total_steps = 0;
   double sim_time_s = 0.0;  // seconds since the scenario epoch
   std::uint64_t objects_alive = 0;
-  ObjectCounts objects_by_type;  // sums to objects_alive
+  ObjectCounts objects_by_type;     // sums to objects_alive
   std::uint64_t events_so_far = 0;  // encounters + burn-ups + breakups emitted
   double wall_s = 0.0;              // wall time of this run so far (not deterministic)
   double eta_s = 0.0;               // estimated wall time left

@@ -57,7 +57,6 @@ ObjectCounts count_by_type(const Population& p) {
   return c;
 }
 
-
 }  // namespace
 
 std::int64_t total_steps_of(const SimulationConfig& config) {

@@ -53,7 +53,8 @@ ErrorStats grid_error(const UtcEpoch& epoch, const SolarActivitySettings& solar,
     for (int i = 0; i < samples / kTimes; ++i) {
       const Eigen::Vector3d r =
           position(150.0 + 1850.0 * unit(rng), std::asin(2.0 * unit(rng) - 1.0), 2.0 * M_PI * unit(rng));
-      const double fast = atmosphere_density<AtmosphereModel::kNrlmsise00>(f, r.x(), r.y(), r.z(), r.norm() - kRe);
+      const double fast =
+          atmosphere_density<AtmosphereModel::kNrlmsise00>(f, r.x(), r.y(), r.z(), r.norm() - kRe);
       const double full = nrlmsise00_density(grid.model_input(t, r)).rho_drag_kg_m3;
       errors.push_back(std::fabs(fast / full - 1.0));
     }
@@ -75,7 +76,8 @@ TEST(MsisGrid, ReproducesTheFullModelAtLowAndHighActivity) {
       {"2008-06-15 observed (solar minimum)", UtcEpoch::from_calendar(2008, 6, 15, 0, 0, 0), {}},
       {"2001-11-15 observed (solar maximum)", UtcEpoch::from_calendar(2001, 11, 15, 0, 0, 0), {}},
       {"2003-10-29 observed (Halloween storm, Ap 204)", UtcEpoch::from_calendar(2003, 10, 29, 0, 0, 0), {}},
-      {"constant F10.7 250, Ap 50", UtcEpoch::from_calendar(2020, 7, 1, 0, 0, 0),
+      {"constant F10.7 250, Ap 50",
+       UtcEpoch::from_calendar(2020, 7, 1, 0, 0, 0),
        {SolarActivityMode::kConstant, 250.0, 50.0}},
   };
   unsigned seed = 1;
@@ -102,7 +104,8 @@ Mean400 mean_density_400km(int year, int month, int day) {
     for (int j = 0; j < 24; ++j, ++n) {
       const Eigen::Vector3d r = position(400.0, std::asin(-1.0 + (i + 0.5) / 9.0), j * M_PI / 12.0);
       const double full = nrlmsise00_density(model.msis_grid()->model_input(0.0, r)).rho_drag_kg_m3;
-      const double grid = atmosphere_density<AtmosphereModel::kNrlmsise00>(f, r.x(), r.y(), r.z(), r.norm() - kRe);
+      const double grid =
+          atmosphere_density<AtmosphereModel::kNrlmsise00>(f, r.x(), r.y(), r.z(), r.norm() - kRe);
       m.full += full;
       m.grid += grid;
       m.worst_point = std::max(m.worst_point, std::fabs(grid / full - 1.0));
@@ -193,8 +196,8 @@ double decay_400km(const UtcEpoch& epoch) {
 TEST(MsisGrid, DecaysFasterAtSolarMaximum) {
   const double at_max = decay_400km(UtcEpoch::from_calendar(2001, 11, 15, 0, 0, 0));
   const double at_min = decay_400km(UtcEpoch::from_calendar(2008, 6, 15, 0, 0, 0));
-  std::printf("400 km, Cd A/m 0.01, 1 day: a falls %.0f m at solar maximum, %.0f m at minimum (x%.1f)\n", at_max,
-              at_min, at_max / at_min);
+  std::printf("400 km, Cd A/m 0.01, 1 day: a falls %.0f m at solar maximum, %.0f m at minimum (x%.1f)\n",
+              at_max, at_min, at_max / at_min);
   EXPECT_GT(at_min, 0.0);
   EXPECT_GT(at_max, 3.0 * at_min);
 }

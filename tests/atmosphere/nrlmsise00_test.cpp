@@ -60,8 +60,8 @@ std::vector<Case> read_cases() {
       }
     }
     const std::size_t expected = text.find("\"expected\"");
-    for (const char* key : {"He", "O", "N2", "O2", "Ar", "rho_g_cm3", "H", "N", "anomalous_O", "T_exospheric_K",
-                            "T_at_alt_K"})
+    for (const char* key :
+         {"He", "O", "N2", "O2", "Ar", "rho_g_cm3", "H", "N", "anomalous_O", "T_exospheric_K", "T_at_alt_K"})
       c.expected.emplace_back(key, number_after(text, key, expected));
     cases.push_back(c);
   }
@@ -111,7 +111,8 @@ TEST(Nrlmsise00, SeventeenStandardCases) {
       }
       const double rel = std::fabs(got / expected - 1.0);
       worst = std::max(worst, rel);
-      EXPECT_LT(rel, kRelativeTolerance) << "case " << i + 1 << " " << key << ": " << got << " vs " << expected;
+      EXPECT_LT(rel, kRelativeTolerance)
+          << "case " << i + 1 << " " << key << ": " << got << " vs " << expected;
     }
   }
   std::printf("worst relative difference over the 17 cases: %.3g\n", worst);
@@ -148,7 +149,8 @@ TEST(Nrlmsise00, ColumnGivesTheFullModelsBits) {
   in.f107_avg = 180;
   in.ap = 30;
   const nrlmsise00::ColumnTerms column(in, nrlmsise00::Switches::all_on());
-  for (double h : {90.0, 100.0, 119.0, 121.0, 155.0, 199.0, 299.0, 301.0, 449.0, 451.0, 800.0, 2000.0, 140.0, 95.0}) {
+  for (double h :
+       {90.0, 100.0, 119.0, 121.0, 155.0, 199.0, 299.0, 301.0, 449.0, 451.0, 800.0, 2000.0, 140.0, 95.0}) {
     MsisInput at = in;
     at.altitude_km = h;
     const MsisOutput full = nrlmsise00_density(at);

@@ -11,7 +11,9 @@
 namespace kessler {
 namespace {
 
-const SpaceWeather& table() { return *SpaceWeather::bundled(); }
+const SpaceWeather& table() {
+  return *SpaceWeather::bundled();
+}
 
 TEST(SpaceWeather, BundledTableSpan) {
   EXPECT_EQ(table().first_day(), day_number(1957, 10, 1));
@@ -73,8 +75,8 @@ const char* kHeader =
     "F10.7_OBS,F10.7_ADJ,F10.7_DATA_TYPE,F10.7_OBS_CENTER81,F10.7_OBS_LAST81,F10.7_ADJ_CENTER81,"
     "F10.7_ADJ_LAST81\n";
 
-std::string row(const std::string& date, const std::string& ap, const std::string& f107, const std::string& type,
-                const std::string& avg) {
+std::string row(const std::string& date, const std::string& ap, const std::string& f107,
+                const std::string& type, const std::string& avg) {
   return date + ",1,1,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0," + ap + ",0,0,0," + f107 + ",1," + type + "," + avg +
          ",1,1,1\n";
 }
@@ -90,7 +92,8 @@ std::string refusal(const std::string& csv) {
 
 TEST(SpaceWeather, GoodSmallFileParses) {
   const std::string csv = std::string(kHeader) + row("2020-01-30", "5", "70.1", "OBS", "71.0") +
-                          row("2020-01-31", "6", "70.2", "OBS", "71.1") + row("2020-02-01", "", "72.0", "PRM", "72.5") +
+                          row("2020-01-31", "6", "70.2", "OBS", "71.1") +
+                          row("2020-02-01", "", "72.0", "PRM", "72.5") +
                           row("2020-03-01", "", "74.0", "PRM", "73.5");
   const SpaceWeather t = SpaceWeather::parse(csv, "SW-test.csv");
   EXPECT_EQ(t.last_day(), day_number(2020, 3, 1));
@@ -106,7 +109,8 @@ TEST(SpaceWeather, GappedOrGarbledFilesAreRefusedWithLineAndField) {
             "SW-test.csv line 3: DATE: 2020-01-01 does not follow the previous row's day (out of order)");
   EXPECT_EQ(refusal(head + row("2020-01-02", "5", "7x.1", "OBS", "71.0")),
             "SW-test.csv line 3: F10.7_OBS: '7x.1' is not a number");
-  EXPECT_EQ(refusal(head + row("2020-01-02", "", "70.1", "OBS", "71.0")), "SW-test.csv line 3: AP_AVG: empty");
+  EXPECT_EQ(refusal(head + row("2020-01-02", "", "70.1", "OBS", "71.0")),
+            "SW-test.csv line 3: AP_AVG: empty");
   EXPECT_EQ(refusal(head + row("2020-01-02", "5", "70.1", "OBS", "-3")),
             "SW-test.csv line 3: F10.7_OBS_CENTER81: -3 is out of range (below 0.000000)");
   EXPECT_EQ(refusal(head + row("2020-1-02", "5", "70.1", "OBS", "71")),
@@ -115,7 +119,8 @@ TEST(SpaceWeather, GappedOrGarbledFilesAreRefusedWithLineAndField) {
             "SW-test.csv line 3: F10.7_DATA_TYPE: 'XYZ' is not OBS, INT, PRD or PRM");
   EXPECT_EQ(refusal(head + row("2020-03-01", "", "70.1", "PRM", "71")),
             "SW-test.csv line 3: DATE: 2020-03-01 does not follow the previous month");
-  EXPECT_EQ(refusal(head + "2020-01-02,1,2\n"), "SW-test.csv line 3: row: 3 fields, the header names 28 or more");
+  EXPECT_EQ(refusal(head + "2020-01-02,1,2\n"),
+            "SW-test.csv line 3: row: 3 fields, the header names 28 or more");
   EXPECT_EQ(refusal("DATE,AP_AVG\n"), "SW-test.csv line 1: F10.7_OBS: no such column in the header");
 }
 

@@ -77,8 +77,8 @@ class StepTimingSink final : public EventSink {
   }
   void set_alive(std::uint64_t n) { alive_ = n; }
 
-  std::vector<double> step_s;                    // step k (1-based) at index k - 1
-  std::vector<double> step_cpu_s;                // its process CPU time (the loop runs on one thread)
+  std::vector<double> step_s;                   // step k (1-based) at index k - 1
+  std::vector<double> step_cpu_s;               // its process CPU time (the loop runs on one thread)
   std::vector<std::uint64_t> objects_at_start;  // objects alive when that step began
   std::uint64_t before_by_fragments[3] = {0, 0, 0}, after_by_fragments[3] = {0, 0, 0};
   std::uint64_t fragments = 0;
@@ -211,9 +211,9 @@ void add_insert_detection(const StepTimingSink& s, std::int64_t insert_step, std
     line.add(key + "_s", wall).add(key + "_cpu_s", cpu);
     (k <= separation_steps ? young : parted).push_back(wall);
     (k <= separation_steps ? young_cpu : parted_cpu).push_back(cpu);
-    std::fprintf(stderr, "insert, detection: step %lld after the breakup (%llu objects): %.4f s, %.4f CPU s\n",
-                 static_cast<long long>(k), static_cast<unsigned long long>(s.objects_at_start[index(k)]), wall,
-                 cpu);
+    std::fprintf(
+        stderr, "insert, detection: step %lld after the breakup (%llu objects): %.4f s, %.4f CPU s\n",
+        static_cast<long long>(k), static_cast<unsigned long long>(s.objects_at_start[index(k)]), wall, cpu);
   }
   const auto sum = [](const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0); };
   line.add("insert_detect_separation_steps", separation_steps)
@@ -223,7 +223,8 @@ void add_insert_detection(const StepTimingSink& s, std::int64_t insert_step, std
       .add("insert_detect_young_total_s", sum(young))
       .add("insert_detect_young_total_cpu_s", sum(young_cpu));
   if (!parted.empty())
-    line.add("insert_detect_parted_median_s", median(parted)).add("insert_detect_parted_median_cpu_s", median(parted_cpu));
+    line.add("insert_detect_parted_median_s", median(parted))
+        .add("insert_detect_parted_median_cpu_s", median(parted_cpu));
   line.add("insert_rss_before_bytes", rss_before).add("insert_peak_rss_bytes", peak_rss_bytes());
 }
 
@@ -272,8 +273,8 @@ bool measure_insert(const Population& leo, const ScheduledBreakup& collision, co
   const double g0 = now_s();
   const FragmentCloud generated = generate_fragments(alone);
   const double generate_s = now_s() - g0;
-  std::fprintf(stderr, "insert: the model alone, %zu fragments into a fresh cloud: %.4f s\n", generated.size(),
-               generate_s);
+  std::fprintf(stderr, "insert: the model alone, %zu fragments into a fresh cloud: %.4f s\n",
+               generated.size(), generate_s);
   const auto* a = r.sink->after_by_fragments;
   line.add("insert_out_of_memory", static_cast<std::int64_t>(0))
       .add("insert_fragments", static_cast<std::int64_t>(r.sink->fragments))
@@ -307,14 +308,15 @@ void measure_growth(const Population& leo, const ScheduledBreakup& collision, st
   const double after_cpu = ns_per_object_step(s, growth_steps + 1, 2 * growth_steps, true);
   const auto* a = s.after_by_fragments;
   const auto* b = s.before_by_fragments;
-  std::fprintf(stderr,
-               "growth: %llu fragments at the end of step %lld; %.1f ns/object-step before, %.1f after (%.3fx); "
-               "encounters before %llu, after %llu (catalog-catalog %llu, fragment-catalog %llu, "
-               "fragment-fragment %llu)\n",
-               static_cast<unsigned long long>(s.fragments), static_cast<long long>(growth_steps), before, after,
-               after / before, static_cast<unsigned long long>(b[0] + b[1] + b[2]),
-               static_cast<unsigned long long>(a[0] + a[1] + a[2]), static_cast<unsigned long long>(a[0]),
-               static_cast<unsigned long long>(a[1]), static_cast<unsigned long long>(a[2]));
+  std::fprintf(
+      stderr,
+      "growth: %llu fragments at the end of step %lld; %.1f ns/object-step before, %.1f after (%.3fx); "
+      "encounters before %llu, after %llu (catalog-catalog %llu, fragment-catalog %llu, "
+      "fragment-fragment %llu)\n",
+      static_cast<unsigned long long>(s.fragments), static_cast<long long>(growth_steps), before, after,
+      after / before, static_cast<unsigned long long>(b[0] + b[1] + b[2]),
+      static_cast<unsigned long long>(a[0] + a[1] + a[2]), static_cast<unsigned long long>(a[0]),
+      static_cast<unsigned long long>(a[1]), static_cast<unsigned long long>(a[2]));
   line.add("growth_fragments", static_cast<std::int64_t>(s.fragments))
       .add("growth_steps", growth_steps)
       .add("ns_per_object_step_before", before)
@@ -381,7 +383,8 @@ int bench_breakup(int argc, char** argv) {
   collision.object_ids = {kParentA, kParentB};
   collision.impact_speed_m_s = 11700.0;
   try {
-    if (do_insert && !measure_insert(leo, collision, event, insert_step, insert_after, insert_detection, line)) {
+    if (do_insert &&
+        !measure_insert(leo, collision, event, insert_step, insert_after, insert_detection, line)) {
       line.print();
       return 1;
     }

@@ -73,7 +73,8 @@ Population parents_at(const std::string& path, const UtcEpoch& start) {
   std::stringstream text;
   text << in.rdbuf();
   const ElementSetText parsed = parse_tle_text(text.str(), {}, path);
-  if (parsed.sets.size() != 2 || !parsed.problems.empty()) throw std::runtime_error(path + ": expected two sets");
+  if (parsed.sets.size() != 2 || !parsed.problems.empty())
+    throw std::runtime_error(path + ": expected two sets");
   Population p;
   for (const ElementSetEntry& set : parsed.sets) {
     const MeanElements& el = set.elements;
@@ -112,8 +113,8 @@ Remaining remaining_at(const DecaySink& s, double t_s) {
 }
 
 // The run: from one step before the closest approach to `to`, the collision at the end of step 1.
-SimulationConfig decay_config(const UtcEpoch& tca, const UtcEpoch& to, double dt_s, double lc_min, int threads,
-                              std::int64_t seed) {
+SimulationConfig decay_config(const UtcEpoch& tca, const UtcEpoch& to, double dt_s, double lc_min,
+                              int threads, std::int64_t seed) {
   SimulationConfig config;
   config.start_epoch = tca.plus_seconds(-dt_s);
   config.dt_s = dt_s;
@@ -141,8 +142,9 @@ int bench_breakup_decay(int argc, char** argv) {
   const std::string to_text = args.get("--to", "2026-03-01T00:00:00Z");
   const double dt_s = args.get_double("--dt", 60.0), lc_min = args.get_double("--lc-min", 0.10);
   const int threads = static_cast<int>(args.get_int("--threads", 1));
-  const std::string tle = args.get(
-      "--tle", std::string(KESSLER_BENCH_TEST_DATA_DIR) + "/iridium_cosmos/iridium33_cosmos2251_last_pre_collision.tle");
+  const std::string tle =
+      args.get("--tle", std::string(KESSLER_BENCH_TEST_DATA_DIR) +
+                            "/iridium_cosmos/iridium33_cosmos2251_last_pre_collision.tle");
   const std::optional<UtcEpoch> to = UtcEpoch::parse_iso8601(to_text);
   const UtcEpoch tca = UtcEpoch::from_calendar(2009, 2, 10, 16, 55, 59.796);
   if (!to || dt_s <= 0.0 || lc_min <= 0.0 || threads < 1 || to->seconds_since(tca) < 2.0 * dt_s) {

@@ -57,21 +57,32 @@ seed: 42
      "conjunctions.kappa: unknown key (known keys here: enabled, narrow_phase, kappa_max, "
      "screening_distance_km, "
      "active_pairs_evade, active_passive_max_passive_radius_m, active_passive_evasion_efficiency)"},
-    {"nrlmsise00 constant", "population: {dataset: leo-19647}\nforce_model: {atmosphere: nrlmsise00, "
-     "solar_activity: {mode: constant, f107_sfu: 200, ap: 12}}", ""},
-    {"nrlmsise00 cycle", "population: {dataset: leo-19647}\nforce_model: {atmosphere: nrlmsise00, "
-     "solar_activity: {mode: cycle}}", ""},
-    {"solar activity without nrlmsise00", "population: {dataset: leo-19647}\nforce_model: {solar_activity: "
-     "{mode: cycle}}", "force_model.solar_activity: only the nrlmsise00 atmosphere reads solar activity"},
-    {"f107 out of range", "population: {dataset: leo-19647}\nforce_model: {atmosphere: nrlmsise00, "
+    {"nrlmsise00 constant",
+     "population: {dataset: leo-19647}\nforce_model: {atmosphere: nrlmsise00, "
+     "solar_activity: {mode: constant, f107_sfu: 200, ap: 12}}",
+     ""},
+    {"nrlmsise00 cycle",
+     "population: {dataset: leo-19647}\nforce_model: {atmosphere: nrlmsise00, "
+     "solar_activity: {mode: cycle}}",
+     ""},
+    {"solar activity without nrlmsise00",
+     "population: {dataset: leo-19647}\nforce_model: {solar_activity: "
+     "{mode: cycle}}",
+     "force_model.solar_activity: only the nrlmsise00 atmosphere reads solar activity"},
+    {"f107 out of range",
+     "population: {dataset: leo-19647}\nforce_model: {atmosphere: nrlmsise00, "
      "solar_activity: {mode: constant, f107_sfu: -3}}",
      "force_model.solar_activity.f107_sfu: must be in (0, 1000] sfu, got -3"},
-    {"ap out of range", "population: {dataset: leo-19647}\nforce_model: {atmosphere: nrlmsise00, "
-     "solar_activity: {mode: constant, ap: 500}}", "force_model.solar_activity.ap: must be in [0, 400], got 500"},
-    {"fixed values need the constant mode", "population: {dataset: leo-19647}\nforce_model: {atmosphere: "
+    {"ap out of range",
+     "population: {dataset: leo-19647}\nforce_model: {atmosphere: nrlmsise00, "
+     "solar_activity: {mode: constant, ap: 500}}",
+     "force_model.solar_activity.ap: must be in [0, 400], got 500"},
+    {"fixed values need the constant mode",
+     "population: {dataset: leo-19647}\nforce_model: {atmosphere: "
      "nrlmsise00, solar_activity: {mode: observed, ap: 5}}",
      "force_model.solar_activity.ap: only the constant mode takes fixed values"},
-    {"evasion efficiency", "population: {dataset: leo-19647}\nconjunctions: {active_passive_evasion_efficiency: 1.5}",
+    {"evasion efficiency",
+     "population: {dataset: leo-19647}\nconjunctions: {active_passive_evasion_efficiency: 1.5}",
      "conjunctions.active_passive_evasion_efficiency: must be in [0, 1], got 1.5"},
     {"number as text", "dt_s: ten\npopulation: {dataset: leo-19647}", "dt_s: expected a number, got 'ten'"},
     {"quoted number", "{\"dt_s\": \"10\", \"population\": {\"dataset\": \"leo-19647\"}}",
@@ -155,17 +166,19 @@ TEST(ScenarioMapping, IntegratorNamesMapOntoTheCompositions) {
 
 TEST(ScenarioMapping, TheSolarCycleAtmosphereAndTheEvasionEfficiencyReachTheCore) {
   v1::Scenario s;
-  ASSERT_FALSE(parse_scenario("population: {synthetic: {objects: 5}}\nforce_model: {atmosphere: nrlmsise00, "
-                              "solar_activity: {mode: constant, f107_sfu: 210, ap: 7}}\n"
-                              "conjunctions: {active_passive_evasion_efficiency: 0.8}",
-                              s));
+  ASSERT_FALSE(
+      parse_scenario("population: {synthetic: {objects: 5}}\nforce_model: {atmosphere: nrlmsise00, "
+                     "solar_activity: {mode: constant, f107_sfu: 210, ap: 7}}\n"
+                     "conjunctions: {active_passive_evasion_efficiency: 0.8}",
+                     s));
   SimulationConfig c = to_simulation_config(s);
   EXPECT_EQ(c.force_model.atmosphere, AtmosphereModel::kNrlmsise00);
   EXPECT_EQ(c.force_model.solar_activity.mode, SolarActivityMode::kConstant);
   EXPECT_EQ(c.force_model.solar_activity.f107_sfu, 210.0);
   EXPECT_EQ(c.force_model.solar_activity.ap, 7.0);
   EXPECT_EQ(c.conjunctions.active_passive_evasion_efficiency, 0.8);
-  ASSERT_FALSE(parse_scenario("population: {synthetic: {objects: 5}}\nforce_model: {atmosphere: nrlmsise00}", s));
+  ASSERT_FALSE(
+      parse_scenario("population: {synthetic: {objects: 5}}\nforce_model: {atmosphere: nrlmsise00}", s));
   c = to_simulation_config(s);
   EXPECT_EQ(c.force_model.solar_activity.mode, SolarActivityMode::kObserved);
   EXPECT_EQ(c.conjunctions.active_passive_evasion_efficiency, 1.0);
@@ -242,7 +255,8 @@ TEST(ScenarioFilesShipped, AMissingFileIsAClearError) {
   v1::Scenario s;
   auto error = load_scenario_file("/nonexistent/x.yaml", s);
   ASSERT_TRUE(error);
-  EXPECT_EQ(error->message(), "scenario file '/nonexistent/x.yaml' cannot be read (No such file or directory)");
+  EXPECT_EQ(error->message(),
+            "scenario file '/nonexistent/x.yaml' cannot be read (No such file or directory)");
 }
 
 }  // namespace

@@ -25,7 +25,8 @@ std::shared_ptr<const v1::RunEvent> encounter(std::int64_t run, std::uint64_t se
   return e;
 }
 
-std::shared_ptr<const v1::RunEvent> progress(std::int64_t run, std::uint64_t seq, double t, std::uint64_t alive) {
+std::shared_ptr<const v1::RunEvent> progress(std::int64_t run, std::uint64_t seq, double t,
+                                             std::uint64_t alive) {
   auto e = std::make_shared<v1::RunEvent>();
   e->set_run_id(run);
   e->set_seq(seq);

@@ -489,8 +489,9 @@ TEST(ServiceEndToEnd, ACancelledRunResumesFromItsCheckpointAndEndsAsAnUninterrup
   do {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
     state = get_run(*stub, id);
-  } while ((state.progress().step() < state.progress().total_steps() / 3 || stored_checkpoint_step(db, id) == 0) &&
-           state.state() <= v1::RUN_STATE_RUNNING);
+  } while (
+      (state.progress().step() < state.progress().total_steps() / 3 || stored_checkpoint_step(db, id) == 0) &&
+      state.state() <= v1::RUN_STATE_RUNNING);
   ASSERT_EQ(state.state(), v1::RUN_STATE_RUNNING) << "the run ended before it could be cancelled";
   auto refused = cli(dir, "resume " + run + server);
   EXPECT_EQ(refused.exit_code, 1);

@@ -4,6 +4,9 @@
 
 namespace kessler::nrlmsise00 {
 
+// The generator lays out the tables.
+// clang-format off
+
 const double pt[150] = {
     0.986573, 0.0162228, 0.015527, -0.104323, -0.00375801, -0.00118538, -0.124043, 0.0045682, 0.00876018,
     -0.136235, -0.0352427, 0.00884181, -0.00592127, -8.6165, 0.0, 0.0128492, 0.0, 130.096, 0.0104567,
@@ -352,5 +355,7 @@ const double sam[100] = {
 const double pavgm[10] = {
     261.0, 264.0, 229.0, 217.0, 217.0, 223.0, 286.76, -2.9394, 2.5, 0.0,
 };
+
+// clang-format on
 
 }  // namespace kessler::nrlmsise00

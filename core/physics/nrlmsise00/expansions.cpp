@@ -205,7 +205,8 @@ double globe7(const double* p, const ModelInput& in, const Switches& s, Expansio
     if (sw[12] != 0.0) {  // universal time, and UT mixed with longitude
       t[11] = (1.0 + p[95] * plg[0][1]) * (1.0 + p[81] * dfa * swc[1]) *
               (1.0 + p[119] * plg[0][1] * swc[5] * cd14) *
-              ((p[68] * plg[0][1] + p[69] * plg[0][3] + p[70] * plg[0][5]) * std::cos(kSecRate * (in.ut_s - p[71])));
+              ((p[68] * plg[0][1] + p[69] * plg[0][3] + p[70] * plg[0][5]) *
+               std::cos(kSecRate * (in.ut_s - p[71])));
       t[11] += swc[11] * (p[76] * plg[2][3] + p[77] * plg[2][5] + p[78] * plg[2][7]) *
                std::cos(kSecRate * (in.ut_s - p[79]) + 2.0 * lon) * (1.0 + p[137] * dfa * swc[1]);
     }
@@ -250,15 +251,16 @@ double glob7s(const double* p, const ModelInput& in, const Switches& s, const Ex
   if (sw[9] == -1.0) t[8] = (p[50] * st.apt + p[96] * plg[0][2] * st.apt * swc[2]);
   if (sw[10] != 0.0 && sw[11] != 0.0 && in.longitude_deg > -1000.0) {
     const double lon = kDegToRad * in.longitude_deg;
-    t[10] = (1.0 + plg[0][1] * (p[80] * swc[5] * std::cos(kDayRate * (doy - p[81])) +
-                                p[85] * swc[6] * std::cos(2.0 * kDayRate * (doy - p[86]))) +
+    t[10] = (1.0 +
+             plg[0][1] * (p[80] * swc[5] * std::cos(kDayRate * (doy - p[81])) +
+                          p[85] * swc[6] * std::cos(2.0 * kDayRate * (doy - p[86]))) +
              p[83] * swc[3] * std::cos(kDayRate * (doy - p[84])) +
              p[87] * swc[4] * std::cos(2.0 * kDayRate * (doy - p[88]))) *
-            ((p[64] * plg[1][2] + p[65] * plg[1][4] + p[66] * plg[1][6] + p[74] * plg[1][1] + p[75] * plg[1][3] +
-              p[76] * plg[1][5]) *
+            ((p[64] * plg[1][2] + p[65] * plg[1][4] + p[66] * plg[1][6] + p[74] * plg[1][1] +
+              p[75] * plg[1][3] + p[76] * plg[1][5]) *
                  std::cos(lon) +
-             (p[90] * plg[1][2] + p[91] * plg[1][4] + p[92] * plg[1][6] + p[77] * plg[1][1] + p[78] * plg[1][3] +
-              p[79] * plg[1][5]) *
+             (p[90] * plg[1][2] + p[91] * plg[1][4] + p[92] * plg[1][6] + p[77] * plg[1][1] +
+              p[78] * plg[1][3] + p[79] * plg[1][5]) *
                  std::sin(lon));
   }
   double g = 0.0;

@@ -18,15 +18,15 @@ namespace kessler::nrlmsise00 {
 
 // The model's inputs in its own units.
 struct ModelInput {
-  int day_of_year = 1;             // 1..366
-  double ut_s = 0.0;               // universal time, seconds of the day
-  double altitude_km = 0.0;        // geodetic altitude
-  double latitude_deg = 0.0;       // geodetic latitude
-  double longitude_deg = 0.0;      // east longitude
-  double local_solar_time_h = 0.0; // apparent local solar time
-  double f107_avg = 150.0;         // 81-day centred mean of F10.7
-  double f107 = 150.0;             // daily F10.7 of the previous day
-  double ap = 4.0;                 // daily magnetic index
+  int day_of_year = 1;              // 1..366
+  double ut_s = 0.0;                // universal time, seconds of the day
+  double altitude_km = 0.0;         // geodetic altitude
+  double latitude_deg = 0.0;        // geodetic latitude
+  double longitude_deg = 0.0;       // east longitude
+  double local_solar_time_h = 0.0;  // apparent local solar time
+  double f107_avg = 150.0;          // 81-day centred mean of F10.7
+  double f107 = 150.0;              // daily F10.7 of the previous day
+  double ap = 4.0;                  // daily magnetic index
   // With switch 9 = -1: daily Ap, the 3-hour ap now and 3, 6, 9 h before, the means of the eight 3-hour
   // values 12-33 h and 36-57 h before.
   std::array<double, 7> ap_history{};

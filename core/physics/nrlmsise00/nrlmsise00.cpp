@@ -70,7 +70,8 @@ constexpr SpeciesSpec kSpecies[] = {
 // g: the species' density variation at the lower boundary (globe7 of its pd row).
 // turbopause: the column's cache of the species' mixed density at its turbopause height (it depends on the
 // altitude only through the regime the model picks: above/below 120, 72.5 and 300 km).
-double species(Thermosphere& th, const SpeciesSpec& sp, double g, double z, int which, TurbopauseCache& turbopause) {
+double species(Thermosphere& th, const SpeciesSpec& sp, double g, double z, int which,
+               TurbopauseCache& turbopause) {
   const double* pdm_row = pdm[sp.pdm_row];
   const double db = pdm_row[0] * std::exp(g) * pd[sp.pd_row][0];
   double d = th.densu(z, db, sp.mass, sp.alpha);
@@ -114,8 +115,8 @@ double species(Thermosphere& th, const SpeciesSpec& sp, double g, double z, int 
   }
   // O2's departure from diffusive equilibrium applies at every altitude.
   if (which == 3 && th.s.sw[15] != 0.0)
-    d *= ccor2(z, pdm_row[3] * pdl[1][23] * th.flux_factor(), pdm_row[7] * pdl[1][22], pdm_row[6] * pdl[1][21],
-               pdm_row[7] * pdl[0][22]);
+    d *= ccor2(z, pdm_row[3] * pdl[1][23] * th.flux_factor(), pdm_row[7] * pdl[1][22],
+               pdm_row[6] * pdl[1][21], pdm_row[7] * pdl[0][22]);
   return d;
 }
 

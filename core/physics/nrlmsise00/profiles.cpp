@@ -26,8 +26,8 @@ double region_spline(const Profiles& pr, const double* z, const double* tn, cons
 
 // Temperature at z in a region and, for xm != 0, the region's factor on a density carried from its top
 // node: (T1 / T) exp(-gamma integral(1/T)). `power` is 1 + alpha (densu) or 1 (densm).
-double region_profile(const Profiles& pr, double z, double xm, double power, const double* zn, const double* tn,
-                      const double* tgn, int n, double& tz) {
+double region_profile(const Profiles& pr, double z, double xm, double power, const double* zn,
+                      const double* tn, const double* tgn, int n, double& tz) {
   double xs[10], ys[10], y2[10];
   const double zgdif = region_spline(pr, zn, tn, tgn, n, xs, ys, y2);
   const double x = pr.zeta(z, zn[0]) / zgdif;
@@ -178,7 +178,8 @@ double spline_integral(const double* xa, const double* ya, const double* y2a, in
     const double b = (xx - xa[lo]) / h;
     const double a2 = a * a, b2 = b * b;
     sum += ((1.0 - a2) * ya[lo] / 2.0 + b2 * ya[hi] / 2.0 +
-            ((-(1.0 + a2 * a2) / 4.0 + a2 / 2.0) * y2a[lo] + (b2 * b2 / 4.0 - b2 / 2.0) * y2a[hi]) * h * h / 6.0) *
+            ((-(1.0 + a2 * a2) / 4.0 + a2 / 2.0) * y2a[lo] + (b2 * b2 / 4.0 - b2 / 2.0) * y2a[hi]) * h * h /
+                6.0) *
            h;
   }
   return sum;

@@ -41,8 +41,8 @@ class Profiles {
   // its density dlb at the lower boundary zlb; tinf, tlb, s2 the Bates profile; alpha the thermal
   // diffusion coefficient; tz receives the temperature at alt. zn1[0]..zn1[4], tn1, tgn1: the lower
   // thermosphere's nodes (tn1[0], tgn1[0] are written: the profile's value and slope at zn1[0]).
-  double densu(double alt, double dlb, double tinf, double tlb, double xm, double alpha, double& tz, double zlb,
-               double s2, const double zn1[5], double tn1[5], double tgn1[2]) const;
+  double densu(double alt, double dlb, double tinf, double tlb, double xm, double alpha, double& tz,
+               double zlb, double s2, const double zn1[5], double tn1[5], double tgn1[2]) const;
   // Density below zn2[0] (72.5 km) from its value d0 there (or, with xm == 0, the temperature).
   double densm(double alt, double d0, double xm, double& tz, const TemperatureNodes& nodes) const;
 
