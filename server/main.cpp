@@ -72,6 +72,9 @@ options:
                         kesslerd)
   --mpi-work-dir DIR    where each MPI run's scenario is written for the ranks to read: on a cluster a
                         directory every node sees (default: the system's temporary directory)
+  --mpi-retries N       a job that ends without its run's end (a rank or node lost) is started again
+                        from the run's last checkpoint up to N times before the run fails (default 0;
+                        a failed run resumes later with 'kessler resume')
   --port-file PATH      write the port listened on to PATH once serving (for scripts and tests)
   --http HOST:PORT      also serve the web dashboard (runs, live progress, conjunctions, figures) on
                         HOST:PORT (off by default; port 0 picks a free one); the dashboard has no
@@ -148,8 +151,8 @@ int token_command(int argc, char** argv) {
 // The MPI options hang together: a program to start and a directory to write in, for a launcher.
 std::string check_mpi_options(kessler::server::MpiLaunch& mpi) {
   if (mpi.launcher.empty()) {
-    if (!mpi.program.empty() || !mpi.work_dir.empty())
-      return "--mpi-program and --mpi-work-dir need --mpi-launcher";
+    if (!mpi.program.empty() || !mpi.work_dir.empty() || mpi.retries > 0)
+      return "--mpi-program, --mpi-work-dir and --mpi-retries need --mpi-launcher";
     return "";
   }
   if (mpi.program.empty()) mpi.program = kessler::server::default_mpi_program();
@@ -359,6 +362,9 @@ int main(int argc, char** argv) {
       options.mpi.program = value;
     } else if (arg == "--mpi-work-dir") {
       options.mpi.work_dir = value;
+    } else if (arg == "--mpi-retries") {
+      if (!parse_int(value, 0, 100, n)) return usage_error("--mpi-retries needs an integer 0..100");
+      options.mpi.retries = static_cast<int>(n);
     } else if (arg == "--port-file") {
       ports.port_file = value;
     } else if (arg == "--http") {

@@ -187,16 +187,24 @@ RunSummary run_job(Job& job, EventSink& sink, RunControl& control, const fs::pat
     const std::string err = tail_of(stderr_path, 2000);
     return err.empty() ? why : why + ": " + err;
   };
+  bool lost = false;
+  auto lost_job = [&] {
+    lost = true;
+    return ended_early();
+  };
   try {
-    RunSummary summary = replay_event_stream(job.stdout_fd, sink, ended_early);
+    RunSummary summary = replay_event_stream(job.stdout_fd, sink, lost_job);
     forwarder.reset();
     ::close(job.stdin_fd);  // the ranks' stop-line readers end
     job.stdin_fd = -1;
     job.wait();
     return summary;
-  } catch (...) {
+  } catch (const std::exception& e) {
     if (!job.status) ::kill(-job.pid, SIGKILL);  // a stream that broke off: the job is of no more use
     job.wait();
+    // kessler-mpi's exit 2 is a refusal (bad input, too many ranks): the same again would be refused.
+    const bool refused = job.status && WIFEXITED(*job.status) && WEXITSTATUS(*job.status) == 2;
+    if (lost && !refused) throw MpiJobLost(e.what());
     throw;
   }
 }

@@ -21,6 +21,15 @@ struct MpiLaunch {
   // Where each run's directory is made; the ranks read the scenario there, so on a cluster it must be
   // on a filesystem every node sees. Empty: the system's temporary directory.
   std::string work_dir;
+  // A job that ends without the run's end (a rank or node lost) is started again from the run's last
+  // checkpoint this many times before the run fails (--mpi-retries).
+  int retries = 0;
+};
+
+// What run_on_ranks throws when the job ended without the run's end or a failure of the run's own (a
+// rank killed, a node lost, the launcher refused): computing the run again may succeed.
+struct MpiJobLost : std::runtime_error {
+  using std::runtime_error::runtime_error;
 };
 
 // The launcher line in words (split at blanks; '...' and "..." group words). nullopt with `error` set

@@ -501,6 +501,10 @@ v1::ListFragmentsResponse RunManager::fragments(const v1::ListFragmentsRequest& 
 
 void RunManager::finish(std::int64_t run_id, v1::RunState state, const std::string& given_error,
                         const v1::RunSummary* summary) {
+  {
+    std::lock_guard lock(hubs_mutex_);
+    mpi_retries_used_.erase(run_id);
+  }
   store_.discard_waiting_checkpoint(run_id);  // an ended run resumes from nothing
   store_.flush();                             // every event is durable before the run reads as ended
   std::string error = given_error;
@@ -602,6 +606,12 @@ void RunManager::execute_run(std::int64_t run_id, RunControl& control) {
       if (checkpoint) ranks.checkpoint = &checkpoint->bytes, ranks.checkpoint_step = checkpoint->step;
       summary = run_on_ranks(options_.mpi, ranks, limited, control);
     }
+  } catch (const MpiJobLost& e) {
+    relay->drain();
+    relay_cpu_s_.fetch_add(relay->cpu_s());
+    if (!requeue_lost_job(run_id, control, e.what()))
+      finish(run_id, v1::RUN_STATE_FAILED, e.what(), nullptr);
+    return;
   } catch (const std::exception& e) {
     relay->drain();
     relay_cpu_s_.fetch_add(relay->cpu_s());
@@ -623,6 +633,32 @@ void RunManager::execute_run(std::int64_t run_id, RunControl& control) {
   }
   v1::RunSummary out = to_proto(summary);
   finish(run_id, control.cancel ? v1::RUN_STATE_CANCELLED : v1::RUN_STATE_SUCCEEDED, "", &out);
+}
+
+bool RunManager::requeue_lost_job(std::int64_t run_id, const RunControl& control, const std::string& why) {
+  if (control.cancel || control.stop_after_checkpoint || stopping_) return false;
+  int retry = 0;
+  {
+    std::lock_guard lock(hubs_mutex_);
+    int& used = mpi_retries_used_[run_id];
+    if (used >= options_.mpi.retries) {
+      mpi_retries_used_.erase(run_id);
+      return false;
+    }
+    retry = ++used;
+  }
+  std::cerr << "kesslerd: run " << run_id << ": MPI job lost; computing the run again from its last checkpoint (retry "
+            << retry << " of " << options_.mpi.retries << "): " << why << std::endl;
+  // As after a daemon restart: the run waits in the queue, its events and checkpoint stay, and its next
+  // job resumes from that checkpoint (the events it computes again are stored once).
+  store_.flush();
+  store_.set_queued(run_id);
+  {
+    std::lock_guard lock(hubs_mutex_);
+    hubs_.erase(run_id);
+  }
+  scheduler_->enqueue(run_id, true);
+  return true;
 }
 
 void RunManager::watch(const v1::WatchRunRequest& request, const WriteEvent& write,

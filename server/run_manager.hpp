@@ -172,6 +172,8 @@ class RunManager {
   std::shared_ptr<EventHub> hub(std::int64_t run_id);
   void finish(std::int64_t run_id, v1::RunState state, const std::string& error,
               const v1::RunSummary* summary);
+  // A run whose MPI job was lost goes back to the queue while --mpi-retries allows (false: it fails).
+  bool requeue_lost_job(std::int64_t run_id, const RunControl& control, const std::string& why);
 
   // Faults (run_faults.cpp).
   void recover();  // queues the runs a previous daemon left running or queued
@@ -207,6 +209,7 @@ class RunManager {
   std::mutex requests_mutex_;  // a request id's lookup and its run's creation, together
   std::mutex hubs_mutex_;
   std::map<std::int64_t, std::shared_ptr<EventHub>> hubs_;
+  std::map<std::int64_t, int> mpi_retries_used_;  // under hubs_mutex_: lost MPI jobs computed again
   std::atomic<bool> stopping_{false};
   std::atomic<double> relay_cpu_s_{0};
   std::unique_ptr<Scheduler> scheduler_;  // last: its workers use the members above

@@ -3,8 +3,9 @@
 # fingerprint (events_digest, state_digest) and the stored conjunctions of `kessler run --local`, and
 # the population snapshots a daemon without MPI stores; a job
 # that refuses the run (more ranks than objects) fails the run with kessler-mpi's message; a cancel
-# reaches the ranks; a rank killed mid-run fails the run with the job's end named, and `kessler resume`
-# then ends it with the fingerprint of the run without MPI.
+# reaches the ranks; a rank killed mid-run makes the daemon compute the run again from its checkpoint
+# (--mpi-retries), killed again it fails the run with the job's end named, and `kessler resume` then ends
+# it with the fingerprint of the run without MPI.
 # A daemon stopped mid-run leaves the run resumable: the next one ends it with the fingerprint of the run
 # without MPI. Bad --mpi-* flags: exit 2 naming the flag.
 # Usage: daemon_mpi.sh KESSLER KESSLERD KESSLER_MPI MPIEXEC SCENARIO LONG_SCENARIO
@@ -29,7 +30,7 @@ start_daemon() {
   rm -f "$dir/port"
   "$kesslerd" --db "$dir/k.db" --listen 127.0.0.1:0 --port-file "$dir/port" --threads 1 \
     --mpi-launcher "$mpiexec --oversubscribe --allow-run-as-root -np 2" --mpi-program "$kessler_mpi" \
-    --mpi-work-dir "$dir" 2>>"$dir/daemon.log" &
+    --mpi-work-dir "$dir" --mpi-retries 1 2>>"$dir/daemon.log" &
   daemon=$!
   tries=0
   until test -s "$dir/port"; do
@@ -60,7 +61,8 @@ bad_flags() {  # EXPECTED_MESSAGE FLAGS...
 bad_flags '--mpi-launcher: an unclosed "' --mpi-launcher 'mpirun "-np'
 bad_flags '--mpi-launcher: no launcher command' --mpi-launcher ''
 bad_flags "--mpi-program: $dir/none is not an" --mpi-launcher mpirun --mpi-program "$dir/none"
-bad_flags '--mpi-program and --mpi-work-dir need --mpi-launcher' --mpi-work-dir "$dir"
+bad_flags '--mpi-program, --mpi-work-dir and --mpi-retries need --mpi-launcher' --mpi-work-dir "$dir"
+bad_flags '--mpi-retries needs an integer 0..100' --mpi-launcher mpirun --mpi-retries -1
 test ! -e "$dir/never.db"
 
 start_daemon
@@ -114,6 +116,12 @@ code=0
 cat "$dir/one.jsonl" | tail -n 2
 test "$code" -eq 1
 grep -q '2 MPI ranks for 1 objects' "$dir/one.jsonl"
+refused=$(grep -o '"run_id":[0-9]*' "$dir/one.jsonl" | head -n 1 | grep -o '[0-9]*$')
+test -n "$refused"
+if grep -q "run $refused: MPI job lost" "$dir/daemon.log"; then  # a refusal is not computed again
+  echo "the refused run $refused was computed again"
+  exit 1
+fi
 
 # 3. A cancel stops the ranks: the run ends cancelled and the job's processes are gone.
 run=$("$kessler" submit "$long_scenario" --output json | grep -o '"run_id": *[0-9]*' | grep -o '[0-9]*$')
@@ -129,24 +137,34 @@ done
 echo "cancelled run $run"
 test -z "$(pgrep -P "$daemon")"
 
-# 4. A rank killed mid-run: the run fails naming the job's end.
+# 4. A rank killed mid-run: the daemon computes the run again from its last checkpoint (--mpi-retries 1);
+# a rank of that job killed too, the run fails naming the job's end; `kessler resume` then ends it with
+# the fingerprint of the run without MPI.
 run=$("$kessler" submit "$long_scenario" --output json | grep -o '"run_id": *[0-9]*' | grep -o '[0-9]*$')
-tries=0
-ranks=""
-until test -n "$ranks"; do
-  tries=$((tries + 1))
-  test $tries -lt 600 || { echo "no ranks"; exit 1; }
-  sleep 0.1
-  launcher=$(pgrep -P "$daemon" | head -n 1)
-  test -n "$launcher" && ranks=$(pgrep -P "$launcher" | head -n 1)
-done
-sleep 1
-kill -KILL "$ranks"
+kill_a_rank() {  # OLD_LAUNCHER: a rank of the next launcher other than that one, killed; prints the launcher
+  tries=0
+  ranks=""
+  until test -n "$ranks"; do
+    tries=$((tries + 1))
+    test $tries -lt 600 || { echo "no ranks" >&2; exit 1; }
+    sleep 0.1
+    launcher=$(pgrep -P "$daemon" | head -n 1)
+    test -n "$launcher" && test "$launcher" != "$1" && ranks=$(pgrep -P "$launcher" | head -n 1)
+  done
+  sleep 1
+  kill -KILL "$ranks"
+  echo "$launcher"
+}
+first=$(kill_a_rank "")
+kill_a_rank "$first" >/dev/null
 code=0
 "$kessler" watch "$run" --output json >"$dir/killed.jsonl" 2>&1 || code=$?
 tail -n 1 "$dir/killed.jsonl"
 test "$code" -eq 1
 grep -q 'the MPI job ended without the run' "$dir/killed.jsonl"
+grep "run $run: MPI job lost" "$dir/daemon.log"
+grep -q "run $run: MPI job lost; computing the run again from its last checkpoint (retry 1 of 1): the MPI job ended" \
+  "$dir/daemon.log"
 test -z "$(pgrep -P "$daemon")"
 # kessler resume: the failed run continues (from its last checkpoint) to the fingerprint of the run
 # without MPI.
@@ -154,7 +172,7 @@ whole=$("$kessler" run "$long_scenario" --local --threads 1 --output json | fing
 test -n "$whole"
 "$kessler" resume "$run"
 "$kessler" watch "$run" --output json >"$dir/killed-resumed.jsonl"
-echo "killed, then resumed:       $(fingerprint <"$dir/killed-resumed.jsonl")"
+echo "killed twice, then resumed: $(fingerprint <"$dir/killed-resumed.jsonl")"
 test "$(fingerprint <"$dir/killed-resumed.jsonl")" = "$whole"
 
 # 5. The daemon stopped mid-run (SIGTERM): the ranks stop after a checkpoint, the run stays resumable,
