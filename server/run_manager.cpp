@@ -609,8 +609,7 @@ void RunManager::execute_run(std::int64_t run_id, RunControl& control) {
   } catch (const MpiJobLost& e) {
     relay->drain();
     relay_cpu_s_.fetch_add(relay->cpu_s());
-    if (!requeue_lost_job(run_id, control, e.what()))
-      finish(run_id, v1::RUN_STATE_FAILED, e.what(), nullptr);
+    if (!requeue_lost_job(run_id, control, e.what())) finish(run_id, v1::RUN_STATE_FAILED, e.what(), nullptr);
     return;
   } catch (const std::exception& e) {
     relay->drain();
@@ -647,8 +646,9 @@ bool RunManager::requeue_lost_job(std::int64_t run_id, const RunControl& control
     }
     retry = ++used;
   }
-  std::cerr << "kesslerd: run " << run_id << ": MPI job lost; computing the run again from its last checkpoint (retry "
-            << retry << " of " << options_.mpi.retries << "): " << why << std::endl;
+  std::cerr << "kesslerd: run " << run_id
+            << ": MPI job lost; computing the run again from its last checkpoint (retry " << retry << " of "
+            << options_.mpi.retries << "): " << why << std::endl;
   // As after a daemon restart: the run waits in the queue, its events and checkpoint stay, and its next
   // job resumes from that checkpoint (the events it computes again are stored once).
   store_.flush();
