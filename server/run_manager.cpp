@@ -429,12 +429,14 @@ v1::Run RunManager::resume(std::int64_t run_id) {
     store_.health().record_failure(e.what());
     throw ServiceError(Code::kUnavailable, std::string("the store cannot write (") + e.what() + ")");
   }
+  // The answer is the run as queued: once enqueued, a free worker may start it before get() could read it.
+  v1::Run queued = get(run_id, false);
   if (!scheduler_->enqueue(run_id)) {
     store_.set_finished(run_id, run.state(), unix_now_s(), run.error(), nullptr);
     throw ServiceError(Code::kResourceExhausted, "queue full: " + std::to_string(options_.queue_limit) +
                                                      " runs are waiting; try later");
   }
-  return get(run_id, false);
+  return queued;
 }
 
 void RunManager::remove(std::int64_t run_id) {
