@@ -147,8 +147,13 @@ int CallResult::exit_code() const {
 }
 
 std::string CallResult::describe() const {
-  if (code == 14) return "UNAVAILABLE: cannot reach kesslerd (" + message + ")";
-  return code_name + ": " + message;
+  if (code != 14) return code_name + ": " + message;
+  // A TLS port hangs up on a plaintext client during the handshake ("Socket closed"), before any call
+  // exists that could be answered UNAUTHENTICATED; a daemon that is not there refuses the connection.
+  if (connection().tls_ca.empty() && message.find("Socket closed") != std::string::npos)
+    return "UNAVAILABLE: kesslerd closed the connection (" + message +
+           "); if it serves TLS, pass --tls-ca FILE (the CA that signed its certificate)";
+  return "UNAVAILABLE: cannot reach kesslerd (" + message + ")";
 }
 
 struct RemoteClient::Impl {

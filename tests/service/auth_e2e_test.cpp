@@ -187,6 +187,10 @@ TEST_F(TlsTokens, PlaintextAndUntrustedCertificatesNeverGetThrough) {
   auto untrusted = v1::KesslerService::NewStub(tls_channel(address, tls_file("other_ca.pem")));
   status = untrusted->ListRuns(context_with(token["root"]).get(), v1::ListRunsRequest(), &runs);
   EXPECT_EQ(status.error_code(), grpc::StatusCode::UNAVAILABLE) << status.error_message();
+  // The CLI over plaintext says what is missing rather than that the daemon cannot be reached.
+  auto cli_plain = cli(dir, "runs --server " + address + " --token " + token["root"]);
+  EXPECT_EQ(cli_plain.exit_code, 1);
+  EXPECT_NE(cli_plain.err.find("pass --tls-ca FILE"), std::string::npos) << cli_plain.err;
 }
 
 TEST_F(TlsTokens, TheRightTokenWorksThroughTheCli) {
