@@ -22,6 +22,7 @@
 #include "server/event_hub.hpp"
 #include "server/mpi_launch.hpp"
 #include "server/run_limits.hpp"
+#include "server/run_protos.hpp"
 #include "server/scheduler.hpp"
 #include "server/store.hpp"
 
@@ -81,15 +82,6 @@ void tune_allocator_for_runs();
 // Empties the scenario's inline population data (catalog text, SATCAT, active list, state table,
 // inline launch plan) and returns their size in bytes: what GetRun leaves out by default.
 std::uint64_t strip_inline_data(v1::Scenario& scenario);
-
-// Core results in wire form.
-v1::RunSummary to_proto(const RunSummary& summary);
-v1::Encounter to_proto(const Encounter& encounter);
-v1::Progress to_proto(const Progress& progress);
-v1::Lifecycle to_proto(const LifecycleReport& event);
-// The breakup without its fragments (the event), and its fragments as the store keeps them.
-v1::Breakup to_proto(const BreakupReport& breakup);
-std::vector<StoredFragment> fragments_of(const BreakupReport& breakup);
 
 class RunManager {
  public:

@@ -277,7 +277,8 @@ RunSummary replay_event_stream(int fd, EventSink& sink, const std::function<std:
           throw std::runtime_error("event stream: cut off");
       }
     } catch (const std::exception& e) {
-      failure = e.what() + std::string("; ") + ended_early();
+      // What ended the writer comes first: a stream cut inside a record is its consequence.
+      failure = ended_early() + "; " + e.what();
     }
     if (failure.empty() && kind == kFailed) In(payload).get_string(failure);
     if (!failure.empty()) {

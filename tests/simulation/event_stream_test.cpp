@@ -167,5 +167,26 @@ TEST(EventStream, AStreamCutShortFailsTheReplayWithWhatEndedIt) {
   EXPECT_EQ(replayed.calls[1], "failed the MPI job ended (exit status 137)");
 }
 
+TEST(EventStream, AStreamCutInsideARecordNamesWhatEndedItFirst) {
+  std::FILE* file = std::tmpfile();
+  EventStreamWriter writer(fileno(file));
+  writer.on_burn_up(1, BurnUp{5, 30.5, -1.0});
+  const off_t whole = ::lseek(fileno(file), 0, SEEK_CUR);
+  ASSERT_EQ(::ftruncate(fileno(file), whole - 3), 0);
+  ::lseek(fileno(file), 0, SEEK_SET);
+  RecordingSink replayed;
+  try {
+    replay_event_stream(fileno(file), replayed,
+                        [] { return std::string("the MPI job ended (exit status 137)"); });
+    ADD_FAILURE() << "no throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "the MPI job ended (exit status 137); event stream: cut off inside a record");
+  }
+  std::fclose(file);
+  ASSERT_EQ(replayed.calls.size(), 1u);
+  EXPECT_EQ(replayed.calls[0],
+            "failed the MPI job ended (exit status 137); event stream: cut off inside a record");
+}
+
 }  // namespace
 }  // namespace kessler
