@@ -8,7 +8,9 @@
 # it with the fingerprint of the run without MPI.
 # A daemon stopped mid-run leaves the run resumable: the next one ends it with the fingerprint of the run
 # without MPI. Bad --mpi-* flags: exit 2 naming the flag.
-# Usage: daemon_mpi.sh KESSLER KESSLERD KESSLER_MPI MPIEXEC SCENARIO LONG_SCENARIO
+# Usage: daemon_mpi.sh KESSLER KESSLERD KESSLER_MPI MPIEXEC SCENARIO LONG_SCENARIO [LAUNCHER]
+# LAUNCHER (default "MPIEXEC --oversubscribe --allow-run-as-root -np 2") starts the 2 ranks, e.g.
+# "srun -n 2 --mpi=pmix" under Slurm.
 set -e
 kessler="$1"
 kesslerd="$2"
@@ -16,6 +18,7 @@ kessler_mpi="$3"
 mpiexec="$4"
 scenario="$5"
 long_scenario="$6"
+launcher_line="${7:-$mpiexec --oversubscribe --allow-run-as-root -np 2}"
 dir=$(mktemp -d)
 daemon=""
 cleanup() {
@@ -29,7 +32,7 @@ fingerprint() { tail -n 1 | grep -o '"events_digest":"[0-9a-f]*","state_digest":
 start_daemon() {
   rm -f "$dir/port"
   "$kesslerd" --db "$dir/k.db" --listen 127.0.0.1:0 --port-file "$dir/port" --threads 1 \
-    --mpi-launcher "$mpiexec --oversubscribe --allow-run-as-root -np 2" --mpi-program "$kessler_mpi" \
+    --mpi-launcher "$launcher_line" --mpi-program "$kessler_mpi" \
     --mpi-work-dir "$dir" --mpi-retries 1 2>>"$dir/daemon.log" &
   daemon=$!
   tries=0
@@ -141,22 +144,29 @@ test -z "$(pgrep -P "$daemon")"
 # a rank of that job killed too, the run fails naming the job's end; `kessler resume` then ends it with
 # the fingerprint of the run without MPI.
 run=$("$kessler" submit "$long_scenario" --output json | grep -o '"run_id": *[0-9]*' | grep -o '[0-9]*$')
-kill_a_rank() {  # OLD_LAUNCHER: a rank of the next launcher other than that one, killed; prints the launcher
+# The ranks are kessler-mpi processes (mpirun's children; under Slurm, slurmstepd's). The ranks seen when
+# one was killed are left out the next time, so the second kill hits the job that computes the run again.
+ranks_of_jobs() { pgrep -f "^$kessler_mpi .*$dir/kesslerd-mpi-" || true; }
+kill_a_rank() {  # OLD_LAUNCHER OLD_RANKS: a rank of the next launcher's job, killed; prints the launcher and its ranks
   tries=0
-  ranks=""
-  until test -n "$ranks"; do
+  rank=""
+  until test -n "$rank"; do
     tries=$((tries + 1))
     test $tries -lt 600 || { echo "no ranks" >&2; exit 1; }
     sleep 0.1
     launcher=$(pgrep -P "$daemon" | head -n 1)
-    test -n "$launcher" && test "$launcher" != "$1" && ranks=$(pgrep -P "$launcher" | head -n 1)
+    test -n "$launcher" && test "$launcher" != "$1" || continue
+    rank=$(ranks_of_jobs | grep -vxF -e "$2" -e "none" | head -n 1)
   done
   sleep 1
-  kill -KILL "$ranks"
-  echo "$launcher"
+  seen=$(ranks_of_jobs | tr '\n' ' ')
+  kill -KILL "$rank"
+  echo "$launcher $seen"
 }
-first=$(kill_a_rank "")
-kill_a_rank "$first" >/dev/null
+first=$(kill_a_rank "" "")
+first_launcher=${first%% *}
+first_ranks=$(echo "${first#* }" | tr ' ' '\n' | grep . || true)
+kill_a_rank "$first_launcher" "$first_ranks" >/dev/null
 code=0
 "$kessler" watch "$run" --output json >"$dir/killed.jsonl" 2>&1 || code=$?
 tail -n 1 "$dir/killed.jsonl"
