@@ -4,8 +4,8 @@
 Usage: clang_tidy_cached.py BUILD_DIR FILE...   (run from the source root; deploy/lint.sh calls it)
 
 A file's key is the hash of: the .clang-tidy file, clang-tidy's version, the file's path in the tree, its
-compile flags (the tree's location replaced, so clones share keys) and its text as clang-14 preprocesses
-it (every header it includes, without line markers). A file that passes leaves an empty stamp named by
+compile flags and its text as clang-14 preprocesses it (every header it includes, without line markers),
+with the tree's location replaced in both, so clones share keys. A file that passes leaves an empty stamp named by
 its key in the cache (KESSLER_LINT_CACHE, default ~/.cache/kessler-lint), so a later run skips it until
 something it reads changes. No well-kept cache for clang-tidy is packaged for Debian 12, hence this.
 Exit status 1 when any file has a warning (the config makes warnings errors).
@@ -55,7 +55,7 @@ def key_of(path, entry, root, common):
     h = common.copy()
     h.update(path.encode())
     h.update("\0".join(portable_flags).encode())
-    h.update(text.stdout)
+    h.update(text.stdout.replace(root.encode(), b"<root>"))  # __FILE__ in macros names the tree
     return h.hexdigest()
 
 

@@ -156,7 +156,7 @@ kill_a_rank() {  # OLD_LAUNCHER OLD_RANKS: a rank of the next launcher's job, ki
     sleep 0.1
     launcher=$(pgrep -P "$daemon" | head -n 1)
     test -n "$launcher" && test "$launcher" != "$1" || continue
-    rank=$(ranks_of_jobs | grep -vxF -e "$2" -e "none" | head -n 1)
+    rank=$(ranks_of_jobs | grep -vxF -e "$2" -e "none" | tail -n 1)  # the newest (highest pid)
   done
   sleep 1
   seen=$(ranks_of_jobs | tr '\n' ' ')
