@@ -18,10 +18,17 @@ stop_daemons() {
   done
 }
 
-if [ "${1:-}" = "stop" ]; then
-  stop_daemons
-  exit 0
-fi
+case "${1:-}" in
+  "") ;;
+  stop)
+    stop_daemons
+    exit 0
+    ;;
+  *)
+    echo "slurm-single-node: unknown argument '$1' (none starts the cluster, 'stop' stops it)" >&2
+    exit 2
+    ;;
+esac
 
 if ! command -v slurmctld >/dev/null 2>&1 || ! command -v munged >/dev/null 2>&1; then
   DEBIAN_FRONTEND=noninteractive apt-get install -y -q slurm-wlm munge
