@@ -44,15 +44,30 @@ struct StepPlan {  // NOLINT(bugprone-reserved-identifier): clang-tidy 14 flags 
   double kick_length[Composition::kMaxKicks];
   int kicks = 0;
   AtmosphereModel atmosphere = AtmosphereModel::kExponentialFit;
+  // DragCoupling::kStepEnds: drag's flows over half the step at its start and at its end, and their
+  // instants; the kicks are then conservative.
+  bool drag_at_step_ends = false;
+  double drag_half_s = 0.0;
+  ForceInstant drag_start, drag_end;
 };
 
 StepPlan plan_step(const ForceModel& model, const Composition& c, double t_start_s, double dt_s) {
   StepPlan plan;
   plan.kicks = c.kicks;
   plan.atmosphere = model.settings().atmosphere;
-  // Drag rate k |v_rel| times the longest kick at most 1/4, i.e. at most 1/8 per half-flow, so a kick's
-  // drag changes v_rel by a factor in [1/1.125^2, 1/0.875^2] (drag.hpp): inactive above ~100 km.
-  const double drag_limit = SymplecticPropagator::kDragRateLimitPerKick / (c.largest_kick() * dt_s);
+  plan.drag_at_step_ends = model.settings().drag_coupling == DragCoupling::kStepEnds;
+  // Drag rate k |v_rel| times the longest kick (or the step, with drag at its ends) at most 1/4, i.e. at
+  // most 1/8 per half-flow, so a kick's drag changes v_rel by a factor in [1/1.125^2, 1/0.875^2]
+  // (drag.hpp): inactive above ~100 km.
+  const double drag_span = plan.drag_at_step_ends ? 1.0 : c.largest_kick();
+  const double drag_limit = SymplecticPropagator::kDragRateLimitPerKick / (drag_span * dt_s);
+  if (plan.drag_at_step_ends) {
+    plan.drag_half_s = 0.5 * dt_s;
+    plan.drag_start = model.instant(t_start_s);
+    plan.drag_end = model.instant(t_start_s + dt_s);
+    plan.drag_start.drag_rate_limit_per_s = drag_limit;
+    plan.drag_end.drag_rate_limit_per_s = drag_limit;
+  }
   for (int k = 0; k < c.kicks; ++k) {
     const auto u = static_cast<std::size_t>(k);
     plan.f[k] = model.instant(t_start_s + c.kick_time[u] * dt_s);
@@ -74,18 +89,15 @@ constexpr std::size_t kLowBatch = 16;
 // to the next.
 constexpr long kTileObjects = 256;
 
-// Objects [begin, end) of `s`, one step. The start states are written to `start` and the burn-up flags
-// set (when not null) in the same pass. No OpenMP region of its own: callers split the objects between their
-// threads. Tile by tile, each drift-kick of the composition is one vector loop over the tile's objects, whose
-// states go back to their arrays (in L1) between kicks. (One loop over the objects with all kicks unrolled
-// inside kept the states in registers, but its ~50 KB of code ran from L2, and its speed changed by 25 % with
-// where the binary's pages fell: leo-19647 took 87 ns per object-step in the propagator, 60 tiled. Every
-// object sees the same operations in the same order: the same bits.)
-template <AtmosphereModel kAtmosphere, bool kKeepStart, int kKicks>
-void composed_range(const StepArrays& s, long begin, long end, const StepPlan& plan, StateArrays* start,
-                    char* __restrict burn_up_flags, double burn_up_radius2) {
-  const ForceInstant* f = plan.f;
-  // Local pointers: the loop must not re-read them through `s` (a store could alias it in principle).
+// How one drift-kick pass of the step kernel treats drag: inside each kick (DragCoupling::kEveryKick),
+// not at all (a conservative kick between the step's ends), or as the flow over half the step at the start
+// position before the first drift (DragCoupling::kStepEnds, first pass).
+enum class KickPass { kWithDrag, kConservative, kStartDragThenConservative };
+
+// One drift and kick of every object of the tile [tile, tile_end): a vector loop whose states go back to
+// their arrays (in L1) for the next pass.
+template <AtmosphereModel kAtmosphere, KickPass kPass>
+void drift_kick_pass(const StepArrays& s, long tile, long tile_end, const StepPlan& plan, int k) {
   double* __restrict px = s.x;
   double* __restrict py = s.y;
   double* __restrict pz = s.z;
@@ -94,55 +106,105 @@ void composed_range(const StepArrays& s, long begin, long end, const StepPlan& p
   double* __restrict pvz = s.vz;
   const double* __restrict pcda = s.drag_area_to_mass;
   const double* __restrict pam = s.srp_area_to_mass;
-  double* __restrict sx = kKeepStart ? start->x.data() : nullptr;
-  double* __restrict sy = kKeepStart ? start->y.data() : nullptr;
-  double* __restrict sz = kKeepStart ? start->z.data() : nullptr;
-  double* __restrict svx = kKeepStart ? start->vx.data() : nullptr;
-  double* __restrict svy = kKeepStart ? start->vy.data() : nullptr;
-  double* __restrict svz = kKeepStart ? start->vz.data() : nullptr;
+  // Copies on the stack: the vectoriser then knows no store in the loop changes them (it would not hoist
+  // the NRLMSISE-00 grid's pointer out of the plan, and left that loop scalar).
+  const ForceInstant instant = plan.f[k];
+  const ForceInstant drag_start = plan.drag_start;
+  const double drag_half_s = plan.drag_half_s;
+  const double drift = plan.drift[k], kick_length = plan.kick_length[k];
+#pragma omp simd
+  for (long i = tile; i < tile_end; ++i) {
+    double x = px[i], y = py[i], z = pz[i];
+    double vx = pvx[i], vy = pvy[i], vz = pvz[i];
+    if constexpr (kPass == KickPass::kStartDragThenConservative)
+      drag_flow_at<kAtmosphere>(drag_start, drag_half_s, x, y, z, vx, vy, vz, pcda[i]);
+    x += drift * vx;
+    y += drift * vy;
+    z += drift * vz;
+    if constexpr (kPass == KickPass::kWithDrag)
+      kick<kAtmosphere>(instant, kick_length, x, y, z, vx, vy, vz, pcda[i], pam[i]);
+    else
+      conservative_kick(instant, kick_length, x, y, z, vx, vy, vz, pam[i]);
+    px[i] = x, py[i] = y, pz[i] = z;
+    pvx[i] = vx, pvy[i] = vy, pvz[i] = vz;
+  }
+}
+
+// The step's last drift of the tile [tile, tile_end), then (kDragAtEnd) drag's flow over half the step at
+// the end position, and the burn-up test on the end position while it is in registers (when flags is not
+// null).
+template <AtmosphereModel kAtmosphere, bool kDragAtEnd>
+[[gnu::always_inline]] inline void last_drift_pass(const StepArrays& s, long tile, long tile_end,
+                                                   const StepPlan& plan, char* __restrict burn_up_flags,
+                                                   double burn_up_radius2) {
+  double* __restrict px = s.x;
+  double* __restrict py = s.y;
+  double* __restrict pz = s.z;
+  double* __restrict pvx = s.vx;
+  double* __restrict pvy = s.vy;
+  double* __restrict pvz = s.vz;
+  const double* __restrict pcda = s.drag_area_to_mass;
+  const double last_drift = plan.drift[plan.kicks];
+  const ForceInstant drag_end = plan.drag_end;  // a copy, as in drift_kick_pass
+  const double drag_half_s = plan.drag_half_s;
+  if (burn_up_flags == nullptr) {
+#pragma omp simd
+    for (long i = tile; i < tile_end; ++i) {
+      const double x = px[i] + last_drift * pvx[i], y = py[i] + last_drift * pvy[i],
+                   z = pz[i] + last_drift * pvz[i];
+      px[i] = x, py[i] = y, pz[i] = z;
+      if constexpr (kDragAtEnd)
+        drag_flow_at<kAtmosphere>(drag_end, drag_half_s, x, y, z, pvx[i], pvy[i], pvz[i], pcda[i]);
+    }
+  } else {
+#pragma omp simd
+    for (long i = tile; i < tile_end; ++i) {
+      const double x = px[i] + last_drift * pvx[i], y = py[i] + last_drift * pvy[i],
+                   z = pz[i] + last_drift * pvz[i];
+      px[i] = x, py[i] = y, pz[i] = z;
+      if constexpr (kDragAtEnd)
+        drag_flow_at<kAtmosphere>(drag_end, drag_half_s, x, y, z, pvx[i], pvy[i], pvz[i], pcda[i]);
+      burn_up_flags[i] = burns_up(x, y, z, burn_up_radius2);
+    }
+  }
+}
+
+// Objects [begin, end) of `s`, one step. The start states are written to `start` and the burn-up flags
+// set (when not null) in the same pass. No OpenMP region of its own: callers split the objects between their
+// threads. Tile by tile, each drift-kick of the composition is one vector loop over the tile's objects, whose
+// states go back to their arrays (in L1) between kicks. (One loop over the objects with all kicks unrolled
+// inside kept the states in registers, but its ~50 KB of code ran from L2, and its speed changed by 25 % with
+// where the binary's pages fell: leo-19647 took 87 ns per object-step in the propagator, 60 tiled. Every
+// object sees the same operations in the same order: the same bits.)
+template <AtmosphereModel kAtmosphere, bool kKeepStart, int kKicks, bool kDragAtStepEnds>
+void composed_range(const StepArrays& s, long begin, long end, const StepPlan& plan, StateArrays* start,
+                    char* __restrict burn_up_flags, double burn_up_radius2) {
   for (long tile = begin; tile < end; tile += kTileObjects) {
     const long tile_end = std::min(end, tile + kTileObjects);
     if constexpr (kKeepStart) {
+      double* __restrict sx = start->x.data();
+      double* __restrict sy = start->y.data();
+      double* __restrict sz = start->z.data();
+      double* __restrict svx = start->vx.data();
+      double* __restrict svy = start->vy.data();
+      double* __restrict svz = start->vz.data();
 #pragma omp simd
       for (long i = tile; i < tile_end; ++i) {
-        sx[i] = px[i], sy[i] = py[i], sz[i] = pz[i];
-        svx[i] = pvx[i], svy[i] = pvy[i], svz[i] = pvz[i];
+        sx[i] = s.x[i], sy[i] = s.y[i], sz[i] = s.z[i];
+        svx[i] = s.vx[i], svy[i] = s.vy[i], svz[i] = s.vz[i];
       }
     }
+    if constexpr (kDragAtStepEnds) {
+      drift_kick_pass<kAtmosphere, KickPass::kStartDragThenConservative>(s, tile, tile_end, plan, 0);
 #pragma GCC unroll 1
-    for (int k = 0; k < kKicks; ++k) {
-      const ForceInstant& instant = f[k];
-      const double drift = plan.drift[k], kick_length = plan.kick_length[k];
-#pragma omp simd
-      for (long i = tile; i < tile_end; ++i) {
-        double x = px[i], y = py[i], z = pz[i];
-        double vx = pvx[i], vy = pvy[i], vz = pvz[i];
-        x += drift * vx;
-        y += drift * vy;
-        z += drift * vz;
-        kick<kAtmosphere>(instant, kick_length, x, y, z, vx, vy, vz, pcda[i], pam[i]);
-        px[i] = x, py[i] = y, pz[i] = z;
-        pvx[i] = vx, pvy[i] = vy, pvz[i] = vz;
-      }
-    }
-    const double last_drift = plan.drift[kKicks];
-    if (burn_up_flags == nullptr) {
-#pragma omp simd
-      for (long i = tile; i < tile_end; ++i) {
-        px[i] += last_drift * pvx[i];
-        py[i] += last_drift * pvy[i];
-        pz[i] += last_drift * pvz[i];
-      }
+      for (int k = 1; k < kKicks; ++k)
+        drift_kick_pass<kAtmosphere, KickPass::kConservative>(s, tile, tile_end, plan, k);
     } else {
-      // The burn-up test on the end position while it is in registers.
-#pragma omp simd
-      for (long i = tile; i < tile_end; ++i) {
-        const double x = px[i] + last_drift * pvx[i], y = py[i] + last_drift * pvy[i],
-                     z = pz[i] + last_drift * pvz[i];
-        px[i] = x, py[i] = y, pz[i] = z;
-        burn_up_flags[i] = burns_up(x, y, z, burn_up_radius2);
-      }
+#pragma GCC unroll 1
+      for (int k = 0; k < kKicks; ++k)
+        drift_kick_pass<kAtmosphere, KickPass::kWithDrag>(s, tile, tile_end, plan, k);
     }
+    last_drift_pass<kAtmosphere, kDragAtStepEnds>(s, tile, tile_end, plan, burn_up_flags, burn_up_radius2);
   }
 }
 
@@ -151,12 +213,19 @@ void range_with(const StepArrays& s, long begin, long end, const StepPlan& plan,
                 char* burn_up_flags, double burn_up_radius2) {
   constexpr auto kTable = AtmosphereModel::kDensityTable, kFit = AtmosphereModel::kExponentialFit,
                  kMsis = AtmosphereModel::kNrlmsise00;
-  auto run = [&]<AtmosphereModel kAtmosphere>() {
+  auto with_coupling = [&]<AtmosphereModel kAtmosphere, bool kDragAtStepEnds>() {
     if (start != nullptr)
-      composed_range<kAtmosphere, true, kKicks>(s, begin, end, plan, start, burn_up_flags, burn_up_radius2);
+      composed_range<kAtmosphere, true, kKicks, kDragAtStepEnds>(s, begin, end, plan, start, burn_up_flags,
+                                                                 burn_up_radius2);
     else
-      composed_range<kAtmosphere, false, kKicks>(s, begin, end, plan, nullptr, burn_up_flags,
-                                                 burn_up_radius2);
+      composed_range<kAtmosphere, false, kKicks, kDragAtStepEnds>(s, begin, end, plan, nullptr, burn_up_flags,
+                                                                  burn_up_radius2);
+  };
+  auto run = [&]<AtmosphereModel kAtmosphere>() {
+    if (plan.drag_at_step_ends)
+      with_coupling.template operator()<kAtmosphere, true>();
+    else
+      with_coupling.template operator()<kAtmosphere, false>();
   };
   switch (plan.atmosphere) {
     case AtmosphereModel::kDensityTable:

@@ -16,9 +16,12 @@
 // kick, drag's exact flow over h/2 again. The kick is then time-symmetric, so every composition stays
 // symmetric and 4th order with drag (measured: tests/physics,
 // Yoshida.LowPerigeeDragKeepsFourthOrder); with drag the scheme is symplectic only in its conservative
-// part. Deep in the atmosphere (below about 100 km) the drag rate is capped so that
-// rate x |h| <= kDragRateLimitPerKick over the longest kick, which keeps the exact drag flow finite in the
-// negative middle kick (never active above the 150 km burn-up altitude).
+// part. With ForceModelSettings::drag_coupling = kStepEnds, drag's flow over dt/2 is applied at the step's
+// start and end positions instead, around conservative kicks: 2nd order in drag, two density reads per
+// step instead of one per kick (force_model_settings.hpp). Deep in the atmosphere (below about 100 km)
+// the drag rate is capped so that rate x |h| <= kDragRateLimitPerKick over the longest kick (the step,
+// with drag at its ends), which keeps the exact drag flow finite in Yoshida's negative middle kick (never
+// active above the 150 km burn-up altitude).
 //
 // Input checks: step() refuses inconsistent arrays and a non-finite or non-positive dt
 // (std::invalid_argument). Physical soundness of each object (finite states above the surface, positive

@@ -103,4 +103,27 @@ Eigen::Vector3d ForceModel::kick(const Eigen::Vector3d& r, const Eigen::Vector3d
   return kick(instant(t_s), r, v, h_s, object);
 }
 
+Eigen::Vector3d ForceModel::conservative_kick(const Eigen::Vector3d& r, const Eigen::Vector3d& v, double t_s,
+                                              double h_s, const ObjectForceProperties& object) const {
+  Eigen::Vector3d out = v;
+  kessler::conservative_kick(instant(t_s), h_s, r.x(), r.y(), r.z(), out.x(), out.y(), out.z(),
+                             object.srp_area_to_mass_m2_kg);
+  return out;
+}
+
+Eigen::Vector3d ForceModel::drag_flow(const Eigen::Vector3d& r, const Eigen::Vector3d& v, double t_s,
+                                      double h_s, const ObjectForceProperties& object) const {
+  const ForceInstant f = instant(t_s);
+  Eigen::Vector3d out = v;
+  const double cda = object.drag_area_to_mass_m2_kg;
+  if (settings_.atmosphere == AtmosphereModel::kDensityTable)
+    drag_flow_at<AtmosphereModel::kDensityTable>(f, h_s, r.x(), r.y(), r.z(), out.x(), out.y(), out.z(), cda);
+  else if (settings_.atmosphere == AtmosphereModel::kNrlmsise00)
+    drag_flow_at<AtmosphereModel::kNrlmsise00>(f, h_s, r.x(), r.y(), r.z(), out.x(), out.y(), out.z(), cda);
+  else
+    drag_flow_at<AtmosphereModel::kExponentialFit>(f, h_s, r.x(), r.y(), r.z(), out.x(), out.y(), out.z(),
+                                                   cda);
+  return out;
+}
+
 }  // namespace kessler

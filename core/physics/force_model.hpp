@@ -4,9 +4,12 @@
 //  - ForceModel::instant(t) + accelerate<Model>(instant, ...): the scalars of one instant (Earth angle,
 //    Sun position, switched coefficients) computed once, then a per-object inline kernel of + - * / sqrt
 //    and deterministic_exp only, which the propagator's loop vectorises. Both give the same bits.
-//  - ForceModel::kick / kick<Model>: the propagator's velocity update over h seconds at a fixed position:
-//    half of the drag as its exact flow, the velocity-independent terms as a plain kick, the other half
-//    of the drag (Strang splitting: the kick is time-symmetric with drag; drag.hpp, drag_flow).
+//  - ForceModel::kick / kick<Model>: the propagator's velocity update over h seconds at a fixed position
+//    with drag coupled at every kick (DragCoupling::kEveryKick): half of the drag as its exact flow, the
+//    velocity-independent terms as a plain kick, the other half of the drag (Strang splitting: the kick
+//    is time-symmetric with drag; drag.hpp, drag_flow).
+//  - ForceModel::conservative_kick / drag_flow (conservative_kick, drag_flow_at<Model>): the two halves
+//    apart, for drag coupled at the step's ends (DragCoupling::kStepEnds).
 // A switched-off term has a zero coefficient, so it adds exactly zero.
 #pragma once
 
@@ -118,6 +121,35 @@ template <AtmosphereModel kAtmosphere>
   drag_flow(rho, cda, f.drag_rate_limit_per_s, x, y, half_h, vx, vy, vz);
 }
 
+// The velocity-independent kick: v += h_s (Kepler + J2 + C22/S22 + SRP) at the fixed position, the same
+// terms in the same order as kick() without its drag.
+[[gnu::always_inline]] inline void conservative_kick(const ForceInstant& f, double h_s, double x, double y,
+                                                     double z, double& vx, double& vy, double& vz,
+                                                     double srp_area_to_mass) {
+  const double r = std::sqrt(x * x + y * y + z * z);
+  const double inv_r = 1.0 / r;
+  double kx, ky, kz, jx, jy, jz, cx, cy, cz, sx, sy, sz;
+  gravity::kepler_acceleration(f.mu_m3_s2, x, y, z, inv_r, kx, ky, kz);
+  gravity::j2_acceleration(f.j2_mu_r2, x, y, z, inv_r, jx, jy, jz);
+  gravity::c22_s22_acceleration(f.c22_mu_r2, f.s22_mu_r2, f.cos_theta, f.sin_theta, x, y, z, inv_r, cx, cy,
+                                cz);
+  srp_acceleration(f.srp_p_au2, f.sun, srp_area_to_mass, x, y, z, sx, sy, sz);
+  vx += h_s * (kx + (jx + cx + sx));
+  vy += h_s * (ky + (jy + cy + sy));
+  vz += h_s * (kz + (jz + cz + sz));
+}
+
+// Drag alone over h_s seconds at the fixed position (x, y, z), its exact flow (drag.hpp) with the density
+// there at the instant f. Without drag (drag_scale 0) the velocity is unchanged bit for bit.
+template <AtmosphereModel kAtmosphere>
+[[gnu::always_inline]] inline void drag_flow_at(const ForceInstant& f, double h_s, double x, double y,
+                                                double z, double& vx, double& vy, double& vz,
+                                                double drag_area_to_mass) {
+  const double r = std::sqrt(x * x + y * y + z * z);
+  const double rho = atmosphere_density<kAtmosphere>(f, x, y, z, r - constants::kEarthEquatorialRadius_m);
+  drag_flow(rho, f.drag_scale * drag_area_to_mass, f.drag_rate_limit_per_s, x, y, h_s, vx, vy, vz);
+}
+
 class ForceModel {
  public:
   ForceModel(const ForceModelSettings& settings, const UtcEpoch& epoch);
@@ -143,6 +175,13 @@ class ForceModel {
                        double h_s, const ObjectForceProperties& object) const;
   Eigen::Vector3d kick(const Eigen::Vector3d& r_m, const Eigen::Vector3d& v_m_s, double t_s, double h_s,
                        const ObjectForceProperties& object) const;
+  // The two halves of a step with drag coupled at its ends: the velocity-independent kick over h_s, and
+  // drag's exact flow over h_s, both at the fixed position r_m and the instant (t_s seconds since the
+  // epoch). The same bits as the propagator's.
+  Eigen::Vector3d conservative_kick(const Eigen::Vector3d& r_m, const Eigen::Vector3d& v_m_s, double t_s,
+                                    double h_s, const ObjectForceProperties& object) const;
+  Eigen::Vector3d drag_flow(const Eigen::Vector3d& r_m, const Eigen::Vector3d& v_m_s, double t_s, double h_s,
+                            const ObjectForceProperties& object) const;
 
  private:
   ForceModelSettings settings_;

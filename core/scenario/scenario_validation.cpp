@@ -91,10 +91,13 @@ double duration_s_of(const v1::Scenario& s) {
   return (s.has_duration_days() ? s.duration_days() : d::kDurationDays) * 86400.0;
 }
 
-// The atmosphere's solar activity: known enum numbers, constants in range, and only with NRLMSISE-00.
+// The force model's enums (atmosphere, drag coupling) known, and the atmosphere's solar activity: constants
+// in range, and only with NRLMSISE-00.
 std::optional<FieldError> validate_solar_activity(const v1::ForceModel& f) {
   if (!v1::Atmosphere_IsValid(f.atmosphere()))
     return FieldError{"force_model.atmosphere", "unknown value " + std::to_string(f.atmosphere())};
+  if (!v1::DragCoupling_IsValid(f.drag_coupling()))
+    return FieldError{"force_model.drag_coupling", "unknown value " + std::to_string(f.drag_coupling())};
   if (!f.has_solar_activity()) return std::nullopt;
   const auto& sun = f.solar_activity();
   if (f.atmosphere() != v1::ATMOSPHERE_NRLMSISE00)
@@ -290,6 +293,8 @@ SimulationConfig to_simulation_config(const v1::Scenario& s, int threads) {
                                  ? AtmosphereModel::kExponentialFit
                              : f.atmosphere() == v1::ATMOSPHERE_NRLMSISE00 ? AtmosphereModel::kNrlmsise00
                                                                            : AtmosphereModel::kDensityTable;
+  c.force_model.drag_coupling =
+      f.drag_coupling() == v1::DRAG_COUPLING_STEP_ENDS ? DragCoupling::kStepEnds : DragCoupling::kEveryKick;
   const auto& sun = f.solar_activity();
   c.force_model.solar_activity.mode = sun.mode() == v1::SOLAR_ACTIVITY_MODE_CYCLE ? SolarActivityMode::kCycle
                                       : sun.mode() == v1::SOLAR_ACTIVITY_MODE_CONSTANT

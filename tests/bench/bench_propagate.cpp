@@ -1,9 +1,9 @@
 // kessler-bench propagate: the symplectic propagator (--integrator, default blanes_moan4) with the full force
 // model (Kepler, J2, C22/S22, drag on the density table, the exponential fit or NRLMSISE-00 with observed
 // solar activity (its grid: the day's build happens in the warm-up step, slot grids inside the timing), SRP
-// with shadow) on the leo-19647 population,
-// repeated to reach --objects (each copy's positions scaled by 1 + 1e-6 copy so no two objects coincide), dt
-// = 10 s.
+// with shadow; drag coupled at every kick or at the step's ends, --drag-coupling) on the leo-19647
+// population, repeated to reach --objects (each copy's positions scaled by 1 + 1e-6 copy so no two objects
+// coincide), dt = 10 s.
 #include <omp.h>
 #include <time.h>
 
@@ -21,7 +21,7 @@ namespace {
 int run(int argc, char** argv) {
   Args args(argc, argv);
   args.allow_only({"--objects", "--steps", "--threads", "--repeats", "--dataset", "--dt", "--atmosphere",
-                   "--forces", "--integrator"});
+                   "--forces", "--integrator", "--drag-coupling"});
   const auto objects = static_cast<std::size_t>(args.get_int("--objects", 20000));
   const auto steps = args.get_int("--steps", 100);
   const int threads = static_cast<int>(args.get_int("--threads", 1));
@@ -40,6 +40,11 @@ int run(int argc, char** argv) {
     std::cerr << "kessler-bench propagate: --integrator is yoshida4 or blanes_moan4\n";
     return 2;
   }
+  const std::string coupling = args.get("--drag-coupling", "every_kick");
+  if (coupling != "every_kick" && coupling != "step_ends") {
+    std::cerr << "kessler-bench propagate: --drag-coupling is every_kick or step_ends\n";
+    return 2;
+  }
   if (atmosphere != "table" && atmosphere != "fit" && atmosphere != "nrlmsise00") {
     std::cerr << "kessler-bench propagate: --atmosphere is 'table', 'fit' or 'nrlmsise00'\n";
     return 2;
@@ -55,6 +60,7 @@ int run(int argc, char** argv) {
   forces.atmosphere = atmosphere == "fit"          ? AtmosphereModel::kExponentialFit
                       : atmosphere == "nrlmsise00" ? AtmosphereModel::kNrlmsise00
                                                    : AtmosphereModel::kDensityTable;
+  forces.drag_coupling = coupling == "step_ends" ? DragCoupling::kStepEnds : DragCoupling::kEveryKick;
   SymplecticPropagator propagator(forces, leo19647_epoch(), *composition);
   propagator.set_threads(threads);
   std::vector<double> walls, cpus;
@@ -78,6 +84,7 @@ int run(int argc, char** argv) {
       .add("dt_s", dt)
       .add("integrator", integrator)
       .add("atmosphere", atmosphere)
+      .add("drag_coupling", coupling)
       .add("forces", force_list)
       .add("wall_s", wall)
       .add("wall_min_s", *std::min_element(walls.begin(), walls.end()))

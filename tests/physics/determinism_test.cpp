@@ -22,22 +22,36 @@ bool bitwise_equal(const std::vector<double>& a, const std::vector<double>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
 }
 
-void propagate(Population& p, int threads, int steps) {
-  SymplecticPropagator propagator(ForceModelSettings{}, leo19647_epoch());
+ForceModelSettings with_coupling(DragCoupling coupling) {
+  ForceModelSettings forces;
+  forces.drag_coupling = coupling;
+  return forces;
+}
+
+void propagate(Population& p, int threads, int steps, DragCoupling coupling = DragCoupling::kEveryKick) {
+  SymplecticPropagator propagator(with_coupling(coupling), leo19647_epoch());
   propagator.set_threads(threads);
   for (int s = 0; s < steps; ++s) propagator.step(p, s * 10.0, 10.0);
 }
 
-TEST(Determinism, OneAndTwoThreadsGiveIdenticalBitsAfter1000StepsOf5000Objects) {
+void expect_one_and_two_threads_agree(DragCoupling coupling, int steps) {
   Population one = first_objects(5000), two = one;
-  propagate(one, 1, 1000);
-  propagate(two, 2, 1000);
+  propagate(one, 1, steps, coupling);
+  propagate(two, 2, steps, coupling);
   for (auto member : {&StateArrays::x, &StateArrays::y, &StateArrays::z, &StateArrays::vx, &StateArrays::vy,
                       &StateArrays::vz})
     EXPECT_TRUE(bitwise_equal(one.state.*member, two.state.*member));
   // The states moved (the test compares something).
   const Population start = first_objects(1);
   EXPECT_GT((one.state.position(0) - start.state.position(0)).norm(), 1e5);
+}
+
+TEST(Determinism, OneAndTwoThreadsGiveIdenticalBitsAfter1000StepsOf5000Objects) {
+  expect_one_and_two_threads_agree(DragCoupling::kEveryKick, 1000);
+}
+
+TEST(Determinism, DragAtTheStepsEndsGivesIdenticalBitsOnOneAndTwoThreads) {
+  expect_one_and_two_threads_agree(DragCoupling::kStepEnds, 500);
 }
 
 TEST(Leo19647Propagation, WholePopulationForAnHourWithBurnUps) {
@@ -94,14 +108,16 @@ TEST(Leo19647Propagation, DeepAtmosphereStaysBoundedWithoutBurnUp) {
 
 TEST(Determinism, AnObjectAloneGivesTheSameBitsAsInsideTheVectorisedLoop) {
   // Alone, an object runs through the loop's scalar remainder; among 5000, through the SIMD body.
-  Population all = first_objects(5000);
-  propagate(all, 1, 200);
-  for (std::size_t i : {0ul, 1ul, 7ul, 4093ul, 4999ul}) {
-    Population alone;
-    alone.add(first_objects(5000).record(i));
-    propagate(alone, 1, 200);
-    EXPECT_EQ(std::memcmp(&alone.state.x[0], &all.state.x[i], sizeof(double)), 0) << i;
-    EXPECT_EQ(std::memcmp(&alone.state.vz[0], &all.state.vz[i], sizeof(double)), 0) << i;
+  for (DragCoupling coupling : {DragCoupling::kEveryKick, DragCoupling::kStepEnds}) {
+    Population all = first_objects(5000);
+    propagate(all, 1, 200, coupling);
+    for (std::size_t i : {0ul, 1ul, 7ul, 4093ul, 4999ul}) {
+      Population alone;
+      alone.add(first_objects(5000).record(i));
+      propagate(alone, 1, 200, coupling);
+      EXPECT_EQ(std::memcmp(&alone.state.x[0], &all.state.x[i], sizeof(double)), 0) << i;
+      EXPECT_EQ(std::memcmp(&alone.state.vz[0], &all.state.vz[i], sizeof(double)), 0) << i;
+    }
   }
 }
 
@@ -132,6 +148,62 @@ void expect_kernel_is_the_composition(Integrator integrator) {
 TEST(Determinism, ForceModelKickEqualsThePropagatorsKernel) {
   expect_kernel_is_the_composition(Integrator::kYoshida4);
   expect_kernel_is_the_composition(Integrator::kBlanesMoan4);
+}
+
+// With drag at the step's ends: drag's flow over dt/2 at the start, the composition of drifts and
+// conservative kicks, drag's flow over dt/2 at the end, by hand with ForceModel::drag_flow and
+// conservative_kick, bit for bit.
+void expect_step_ends_kernel_is_the_splitting(Integrator integrator) {
+  const Population p0 = first_objects(3);
+  Population p = p0;
+  SymplecticPropagator propagator(with_coupling(DragCoupling::kStepEnds), leo19647_epoch(), integrator);
+  const double t0 = 100.0, dt = 10.0;
+  propagator.step(p, t0, dt);
+  const ForceModel& model = propagator.force_model();
+  const Composition& c = composition_of(integrator);
+  for (std::size_t i = 0; i < 3; ++i) {
+    Eigen::Vector3d r = p0.state.position(i), v = p0.state.velocity(i);
+    const ObjectForceProperties props{p0.drag_area_to_mass_m2_kg[i], p0.srp_area_to_mass_m2_kg[i]};
+    v = model.drag_flow(r, v, t0, 0.5 * dt, props);
+    for (std::size_t k = 0; k < static_cast<std::size_t>(c.kicks); ++k) {
+      r += (c.drift[k] * dt) * v;
+      v = model.conservative_kick(r, v, t0 + c.kick_time[k] * dt, c.kick[k] * dt, props);
+    }
+    r += (c.drift[static_cast<std::size_t>(c.kicks)] * dt) * v;
+    v = model.drag_flow(r, v, t0 + dt, 0.5 * dt, props);
+    EXPECT_EQ(r, p.state.position(i));
+    EXPECT_EQ(v, p.state.velocity(i));
+  }
+}
+
+TEST(Determinism, DragAtTheStepsEndsIsTheSplittingByHand) {
+  expect_step_ends_kernel_is_the_splitting(Integrator::kYoshida4);
+  expect_step_ends_kernel_is_the_splitting(Integrator::kBlanesMoan4);
+}
+
+TEST(Determinism, WithoutDragBothCouplingsGiveTheSameBits) {
+  // The drag flows add exactly zero without drag, so the two couplings differ only where drag acts.
+  for (Integrator integrator : {Integrator::kYoshida4, Integrator::kBlanesMoan4}) {
+    ForceModelSettings every = with_coupling(DragCoupling::kEveryKick),
+                       ends = with_coupling(DragCoupling::kStepEnds);
+    every.drag = ends.drag = false;
+    Population a = first_objects(300), b = a;
+    SymplecticPropagator pa(every, leo19647_epoch(), integrator), pb(ends, leo19647_epoch(), integrator);
+    for (int s = 0; s < 20; ++s) {
+      pa.step(a, s * 30.0, 30.0);
+      pb.step(b, s * 30.0, 30.0);
+    }
+    EXPECT_TRUE(bitwise_equal(a.state.x, b.state.x) && bitwise_equal(a.state.vz, b.state.vz));
+    // With drag they differ: the comparison above can fail.
+    Population c = first_objects(300), d = c;
+    SymplecticPropagator pc(with_coupling(DragCoupling::kEveryKick), leo19647_epoch(), integrator),
+        pd(with_coupling(DragCoupling::kStepEnds), leo19647_epoch(), integrator);
+    for (int s = 0; s < 20; ++s) {
+      pc.step(c, s * 30.0, 30.0);
+      pd.step(d, s * 30.0, 30.0);
+    }
+    EXPECT_FALSE(bitwise_equal(c.state.x, d.state.x));
+  }
 }
 
 TEST(Determinism, YoshidasTableIsYoshidasScheme) {

@@ -81,6 +81,34 @@ TEST(RunBuilder, Leo19647RunsAreThreadCountIndependent) {
   }
 }
 
+TEST(RunBuilder, DragAtTheStepsEndsIsThreadCountIndependentAndResumesBitForBit) {
+  v1::Scenario s = leo_subset();
+  s.mutable_force_model()->set_drag_coupling(v1::DRAG_COUPLING_STEP_ENDS);
+  Recorder a, b, every_sink, first;
+  RunControl ca, cb, ce, c1;
+  const auto one = run(s, 1, a, ca);
+  const auto two = run(s, 2, b, cb);
+  EXPECT_EQ(one.state_digest, two.state_digest);
+  EXPECT_EQ(one.events_digest, two.events_digest);
+  // The setting reaches the propagator: the states differ from drag coupled at every kick.
+  const auto every = run(leo_subset(), 1, every_sink, ce);
+  EXPECT_NE(one.state_digest, every.state_digest);
+  first.stop_at_step = 90;
+  ASSERT_TRUE(run(s, 2, first, c1).cancelled);
+  ASSERT_FALSE(first.checkpoints.empty());
+  BuildOptions options;
+  options.threads = 1;
+  FieldError error;
+  auto resumed = resume_simulation(s, first.checkpoints.back().second, options, &error);
+  ASSERT_TRUE(resumed) << error.message();
+  Recorder rest;
+  rest.last_seq = first.checkpoints.back().first;
+  RunControl c3;
+  const auto finished = resumed->run(rest, c3);
+  EXPECT_EQ(finished.state_digest, one.state_digest);
+  EXPECT_EQ(finished.events_digest, one.events_digest);
+}
+
 TEST(RunBuilder, Leo19647ResumesBitForBit) {
   auto s = leo_subset();
   Recorder whole_sink, first;
