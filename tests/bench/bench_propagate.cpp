@@ -100,7 +100,8 @@ int run(int argc, char** argv) {
 KESSLER_BENCH("propagate",
               "one propagator step, full force model, leo-19647 repeated to --objects N; --steps S --threads "
               "T --integrator yoshida4|blanes_moan4 "
-              "[--repeats R --atmosphere table|fit|nrlmsise00 --forces kepler,j2,c22,drag,srp]",
+              "[--repeats R --atmosphere table|fit|nrlmsise00 --drag-coupling every_kick|step_ends "
+              "--forces kepler,j2,c22,drag,srp]",
               run);
 
 }  // namespace kessler::bench
