@@ -209,6 +209,10 @@ int run_ranks(MpiOptions& o, distributed::RankTeam& team) {
     if (control) {
       std::signal(SIGINT, count_signal);
       std::signal(SIGTERM, count_signal);
+      // Timed from when every rank is ready: a rank whose set-up ends first would count its wait for
+      // the others' in its loop (each rank reaches this once its simulation is built; a rank that fails
+      // before it exits, and the launcher ends the job).
+      if (o.timing) MPI_Barrier(team.comm());
       loop.start_s = MPI_Wtime();
       loop.mpi_s_at_start = team.mpi_s();
     } else {

@@ -70,6 +70,23 @@ class BroadPhaseGrid {
   static constexpr std::size_t kMaxRegions = grid::kMaxRegions;
   // The regions of space of the last prepare().
   std::size_t regions() const { return regions_; }
+  // Sort and walk only part `part` of `parts` (the MPI ranks of core/distributed/): the grid gets
+  // `parts` times the team's regions, and this part scatters, sorts and walks the partitions of regions
+  // [regions part / parts, regions (part + 1) / parts) only, where every part lays out the same slots
+  // (boxes, keys and counts cover the whole population). The parts' layouts stay alike only if the
+  // cell guesses do: the coarsening follows the occupied cells of all parts (set_all_parts_occupied),
+  // or stays where it is. Default: part 0 of 1.
+  void set_share(std::size_t part, std::size_t parts) {
+    share_part_ = part;
+    share_parts_ = parts;
+  }
+  // The occupied cells of the partitions this grid sorted in its last build; and, from a shared grid's
+  // caller, their sum over all parts for that build, which the next build's coarsening follows.
+  std::size_t sorted_occupied_cells() const;
+  void set_all_parts_occupied(std::size_t cells) {
+    all_parts_occupied_ = cells;
+    all_parts_occupied_known_ = true;
+  }
   // Builds the boxes and the grid for one step. Called by every thread of the current team, inside a
   // parallel region, after prepare(); it returns when the thread's own share of the sort is done: the
   // slots of thread u's run may be walked once slots_sorted(u, team) says so (each region is sorted on
@@ -211,8 +228,16 @@ class BroadPhaseGrid {
   }
   // Thread t's run of partitions [first, last) in a team of `threads`: contiguous, in order (it sorts
   // them, and walks their slots first).
+  // Within this part's partitions (set_share).
   std::pair<std::size_t, std::size_t> partition_run(std::size_t t, std::size_t threads) const {
-    return {partitions_ * t / threads, partitions_ * (t + 1) / threads};
+    const auto [first, last] = shared_partitions();
+    return {first + (last - first) * t / threads, first + (last - first) * (t + 1) / threads};
+  }
+  // The partitions this part sorts and walks: those of its regions (all, unshared).
+  std::pair<std::size_t, std::size_t> shared_partitions() const {
+    const std::size_t per_region = partitions_ / regions_;
+    return {per_region * (regions_ * share_part_ / share_parts_),
+            per_region * (regions_ * (share_part_ + 1) / share_parts_)};
   }
   // The region of partition p (each region holds 2^(region_bits_ - fine_bits_) partitions).
   std::size_t region_of_partition(std::size_t p) const { return p >> (region_bits_ - fine_bits_); }
@@ -287,6 +312,9 @@ class BroadPhaseGrid {
   }
 
   GridSettings settings_;
+  std::size_t share_part_ = 0, share_parts_ = 1;  // set_share
+  std::size_t all_parts_occupied_ = 0;           // set_all_parts_occupied, for the last build
+  bool all_parts_occupied_known_ = false;
   // Cells: the last build's edges and order, and what the next build starts from. The candidates never
   // depend on the cell edges (only on the boxes), so carrying them from step to step changes no result,
   // and saves a pass when they fit.

@@ -55,6 +55,7 @@ void ConjunctionDetector::set_share(std::size_t part, std::size_t parts) {
                                 std::to_string(parts));
   share_part_ = part;
   share_parts_ = parts;
+  grid_.set_share(part, parts);
 }
 
 std::optional<std::string> ConjunctionDetector::validate(const ConjunctionSettings& s, double dt_s) {
@@ -174,11 +175,8 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
         if (visit < team) continue;  // first round: come back to it
         wait_until([&] { return grid_.slots_sorted(owner, team); });
       }
-      // This detector's share of the slots (set_share): the owner's run cut to it.
-      const auto [run_first, run_last] = grid_.sorted_slots(owner, team);
-      const std::size_t slots = grid_.slot_count();
-      const std::size_t first = std::max(run_first, slots * share_part / share_parts);
-      const std::size_t last = std::max(first, std::min(run_last, slots * (share_part + 1) / share_parts));
+      // The owner's run lies in this detector's share of the grid (set_share).
+      const auto [first, last] = grid_.sorted_slots(owner, team);
       std::atomic<std::size_t>& claimed = walk_cursors_[owner].claimed;
       const std::size_t divisor = d == 0 ? 2 : 4;
       const double visit_start = omp_get_wtime();

@@ -30,12 +30,14 @@ class ConjunctionDetector {
   // identical for any thread count.
   void scan(const Population& population, const StepEnds& step, std::vector<Encounter>& out);
 
-  // Walk only part `part` of `parts` of the grid (slots [S part / parts, S (part + 1) / parts) of the S
-  // slots, and oversized objects o with o % parts == part): the encounters of the parts' scans together
-  // are exactly those of a whole scan, each in one part (a candidate pair belongs to the slot of its
-  // first member). The parts' grids must be laid out alike: each part's detector scans the same steps
-  // on teams of the same size, and with parts > 1 no measured cost moves the grid's region borders or
-  // chunks (grid_balance.hpp; only the balance between threads suffers). Default: part 0 of 1.
+  // Sort and walk only part `part` of `parts` of the grid (the partitions of its regions part / parts
+  // to (part + 1) / parts, BroadPhaseGrid::set_share; and oversized objects o with o % parts == part):
+  // the encounters of the parts' scans together are exactly those of a whole scan, each in one part (a
+  // candidate pair belongs to the slot of its first member). The parts' grids must be laid out alike:
+  // each part's detector scans the same steps on teams of the same size, and with parts > 1 no measured
+  // cost moves the grid's region borders or chunks (grid_balance.hpp; only the balance between threads
+  // suffers); the cells coarsen only when each part is told all parts' occupied cells after each scan
+  // (set_all_parts_occupied). Default: part 0 of 1.
   void set_share(std::size_t part, std::size_t parts);
 
   // Seconds of the last scan spent in the broad phase (grid build and candidate pairs, until the last
@@ -49,6 +51,10 @@ class ConjunctionDetector {
   std::size_t last_team_size() const { return last_team_size_; }
   // The broad phase's grid (its cell size and build counts, for benchmarks).
   const BroadPhaseGrid& grid() const { return grid_; }
+  // A shared scan (set_share): the occupied cells this part sorted in its last scan, and their sum over
+  // all parts, for the next scan's cells (BroadPhaseGrid::set_all_parts_occupied).
+  std::size_t sorted_occupied_cells() const { return grid_.sorted_occupied_cells(); }
+  void set_all_parts_occupied(std::size_t cells) { grid_.set_all_parts_occupied(cells); }
 
  private:
   ConjunctionSettings settings_;

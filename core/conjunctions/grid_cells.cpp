@@ -147,10 +147,20 @@ CellOrder BroadPhaseGrid::cell_order(double extent_m, double column_m, double ce
 
 void BroadPhaseGrid::update_coarsening(std::size_t threads) {
   // The coarsening follows the last build's objects per occupied cell.
-  std::size_t occupied = 0;
-  for (std::size_t u = 0; u < occupancy_team_; ++u) occupied += thread_occupied_[u];
+  // A shared grid sorted its part's cells only: it follows all parts' (set_all_parts_occupied), or keeps
+  // its coarsening, so that every part guesses the same cells.
+  const std::size_t occupied = share_parts_ == 1         ? sorted_occupied_cells()
+                               : all_parts_occupied_known_ ? all_parts_occupied_
+                                                           : 0;
+  all_parts_occupied_known_ = false;
   occupancy_team_ = threads;
   coarsening_ = next_coarsening(coarsening_, slots_in_grid_, occupied);
+}
+
+std::size_t BroadPhaseGrid::sorted_occupied_cells() const {
+  std::size_t occupied = 0;
+  for (std::size_t u = 0; u < occupancy_team_; ++u) occupied += thread_occupied_[u];
+  return occupied;
 }
 
 void BroadPhaseGrid::sample_extent(const ThreadBuild& b) {

@@ -81,7 +81,14 @@ void BroadPhaseGrid::scatter_chunk(const ThreadBuild& b) {
   // fills while those lines are fetched back. With a team, the line a record kAhead objects on goes to
   // is asked for ahead, for writing, so those fetches overlap (one thread, whose lines are its own, only
   // pays for the extra instructions).
-  auto scatter = [&](auto ask_ahead) {
+  // A shared grid (set_share) keeps only its part's partitions: the others' groups stay unwritten, and
+  // unread.
+  const auto [own_first, own_last] = shared_partitions();
+  const std::uint32_t fine_bits = static_cast<std::uint32_t>(fine_bits_);
+  auto own = [&, first = own_first, count = own_last - own_first](std::uint32_t bucket) {
+    return (bucket >> fine_bits) - first < count;
+  };
+  auto scatter = [&](auto ask_ahead, auto shared) {
     constexpr std::size_t kAhead = 16;
     for (std::size_t i = begin; i < end; ++i) {
       if constexpr (decltype(ask_ahead)::value) {
@@ -93,6 +100,11 @@ void BroadPhaseGrid::scatter_chunk(const ThreadBuild& b) {
         }
       }
       if (oversized_flag_[i]) continue;
+      if constexpr (decltype(shared)::value) {  // neither the box nor its ghost in this part: skip early
+        const std::uint32_t bucket = box_bucket_[i];
+        if (!own(bucket & grid::kBucketMask) && (bucket <= grid::kBucketMask || !own(ghost_bucket(bucket))))
+          continue;
+      }
       GridBox box;
       for (int k = 0; k < 3; ++k) {
         box.lo[k] = box_lo_[k][i];
@@ -105,19 +117,20 @@ void BroadPhaseGrid::scatter_chunk(const ThreadBuild& b) {
       if (bucket > grid::kBucketMask) {  // ghosted: about 1 % of the boxes with 2 regions
         box.crosses = crosses | grid::kGhost;
         box.bucket = ghost_bucket(bucket);
-        scratch_[cursor[box.bucket >> fine_bits_]++] = box;
+        if (!decltype(shared)::value || own(box.bucket)) scratch_[cursor[box.bucket >> fine_bits_]++] = box;
         box.crosses = crosses & ~grid::kCrossesX;
       } else {
         box.crosses = crosses;
       }
       box.bucket = bucket & grid::kBucketMask;
-      scratch_[cursor[box.bucket >> fine_bits_]++] = box;
+      if (!decltype(shared)::value || own(box.bucket)) scratch_[cursor[box.bucket >> fine_bits_]++] = box;
     }
   };
+  const bool shared = share_parts_ > 1;
   if (b.threads > 1)
-    scatter(std::true_type{});
+    shared ? scatter(std::true_type{}, std::true_type{}) : scatter(std::true_type{}, std::false_type{});
   else
-    scatter(std::false_type{});
+    shared ? scatter(std::false_type{}, std::true_type{}) : scatter(std::false_type{}, std::false_type{});
 }
 
 std::uint32_t BroadPhaseGrid::lay_out_partitions(const ThreadBuild& b) {
@@ -126,9 +139,12 @@ std::uint32_t BroadPhaseGrid::lay_out_partitions(const ThreadBuild& b) {
   // the layout itself (no serial section).
   const std::size_t partitions = partitions_, fine_buckets = std::size_t{1} << fine_bits_;
   const auto [p_begin, p_end] = partition_run(b.t, b.threads);
+  // A shared grid's partitions of other parts, which no thread here sorts: thread 0 writes their
+  // starts (the walk of this part's last region reads the next one's as its end).
+  const auto [own_first, own_last] = shared_partitions();
   std::uint32_t total_slots = 0;  // objects in the grid and ghosts
   for (std::size_t p = 0; p < partitions; ++p) {
-    if (p >= p_begin && p < p_end) {  // each thread writes its own
+    if ((p >= p_begin && p < p_end) || (b.t == 0 && (p < own_first || p >= own_last))) {
       partition_start_[p] = total_slots;
       // The partition's first bucket start, before any sort: the walk of the region below it reads it
       // as the end of its last bucket, and may begin before this partition is sorted (once every

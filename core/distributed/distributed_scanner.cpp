@@ -34,23 +34,29 @@ void DistributedScanner::scan(const Population& population, const StepEnds& step
   displacements_.resize(ranks);
   int my_bytes = static_cast<int>(mine_.size() * sizeof(Encounter));
   // Each rank's byte count, with the grid it walked a share of: the shares cover every slot once only
-  // if all ranks laid out the same grid (the same slot count, on teams of the same size).
-  const long long mine[3] = {my_bytes, static_cast<long long>(detector_.grid().slot_count()),
-                             static_cast<long long>(detector_.last_team_size())};
-  shapes_.resize(3 * ranks);
+  // if all ranks laid out the same grid (the same slot count, on teams of the same size). And the cells
+  // it sorted that hold objects: their sum is what every rank's next grid coarsens by, alike.
+  constexpr std::size_t kShape = 4;
+  const long long mine[kShape] = {my_bytes, static_cast<long long>(detector_.grid().slot_count()),
+                                  static_cast<long long>(detector_.last_team_size()),
+                                  static_cast<long long>(detector_.sorted_occupied_cells())};
+  shapes_.resize(kShape * ranks);
   {
     RankTeam::Timed timed(team_);
-    MPI_Allgather(mine, 3, MPI_LONG_LONG, shapes_.data(), 3, MPI_LONG_LONG, team_.comm());
+    MPI_Allgather(mine, kShape, MPI_LONG_LONG, shapes_.data(), kShape, MPI_LONG_LONG, team_.comm());
   }
+  std::size_t occupied_cells = 0;
   for (std::size_t r = 0; r < ranks; ++r) {
-    bytes_of_rank_[r] = static_cast<int>(shapes_[3 * r]);
-    if (population.size() >= 2 && (shapes_[3 * r + 1] != mine[1] || shapes_[3 * r + 2] != mine[2]))
+    const long long* shape = &shapes_[kShape * r];
+    bytes_of_rank_[r] = static_cast<int>(shape[0]);
+    occupied_cells += static_cast<std::size_t>(shape[3]);
+    if (population.size() >= 2 && (shape[1] != mine[1] || shape[2] != mine[2]))
       throw std::runtime_error("MPI rank " + std::to_string(r) + " laid out another grid (" +
-                               std::to_string(shapes_[3 * r + 1]) + " slots on " +
-                               std::to_string(shapes_[3 * r + 2]) + " threads, here " +
-                               std::to_string(mine[1]) + " on " + std::to_string(mine[2]) +
+                               std::to_string(shape[1]) + " slots on " + std::to_string(shape[2]) +
+                               " threads, here " + std::to_string(mine[1]) + " on " + std::to_string(mine[2]) +
                                "): every rank must scan on the same number of threads (--threads)");
   }
+  detector_.set_all_parts_occupied(occupied_cells);
   std::size_t total_bytes = 0;
   for (std::size_t r = 0; r < ranks; ++r) {
     if (total_bytes > static_cast<std::size_t>(std::numeric_limits<int>::max()))

@@ -1,6 +1,6 @@
-// A conjunction scan shared out among the ranks of an MPI run: every rank builds the step's grid over the
-// whole population (it holds all of it), walks its share of the grid's slots and runs the narrow phase on
-// the candidate pairs found there (ConjunctionDetector::set_share); the encounters of all ranks are then
+// A conjunction scan shared out among the ranks of an MPI run: every rank computes the step's boxes and
+// cell keys over the whole population (it holds all of it), sorts and walks its share of the grid's
+// regions and runs the narrow phase on the candidate pairs found there (ConjunctionDetector::set_share); the encounters of all ranks are then
 // gathered to every rank (MPI_Allgatherv) and put in canonical order. A pair belongs to the slot of its
 // first member, so each encounter is found by exactly one rank: the list is bitwise the single-process
 // scan's, on every rank.
@@ -32,7 +32,7 @@ class DistributedScanner final : public EncounterScanner {
   ConjunctionDetector detector_;
   std::vector<Encounter> mine_;
   std::vector<int> bytes_of_rank_, displacements_;
-  std::vector<long long> shapes_;  // per rank: encounter bytes, grid slots, team size
+  std::vector<long long> shapes_;  // per rank: encounter bytes, grid slots, team size, occupied cells
   double compute_s_ = 0.0;
 };
 

@@ -93,36 +93,8 @@ template <AtmosphereModel kAtmosphere>
   az = kz + (jz + cz + dz + sz);
 }
 
-// The propagator's kick: the velocity after h_s seconds at the fixed position (x, y, z) and instant f
-// (h_s may be negative). drag_flow(h/2), then v += h (Kepler + J2 + C22/S22 + SRP), then drag_flow(h/2):
-// a symmetric composition of exact sub-flows, so kick(-h) undoes kick(h) (up to rounding and the drag
-// cap), which keeps the Yoshida step 4th order with drag. Same terms and density as accelerate().
-template <AtmosphereModel kAtmosphere>
-[[gnu::always_inline]] inline void kick(const ForceInstant& f, double h_s, double x, double y, double z,
-                                        double& vx, double& vy, double& vz, double drag_area_to_mass,
-                                        double srp_area_to_mass) {
-  const double r2 = x * x + y * y + z * z;
-  const double r = std::sqrt(r2);
-  const double inv_r = 1.0 / r;
-  double kx, ky, kz, jx, jy, jz, cx, cy, cz, sx, sy, sz;
-  gravity::kepler_acceleration(f.mu_m3_s2, x, y, z, inv_r, kx, ky, kz);
-  gravity::j2_acceleration(f.j2_mu_r2, x, y, z, inv_r, jx, jy, jz);
-  gravity::c22_s22_acceleration(f.c22_mu_r2, f.s22_mu_r2, f.cos_theta, f.sin_theta, x, y, z, inv_r, cx, cy,
-                                cz);
-  srp_acceleration(f.srp_p_au2, f.sun, srp_area_to_mass, x, y, z, sx, sy, sz);
-  const double rho = atmosphere_density<kAtmosphere>(f, x, y, z, r - constants::kEarthEquatorialRadius_m);
-  const double cda = f.drag_scale * drag_area_to_mass;
-  const double half_h = 0.5 * h_s;
-  drag_flow(rho, cda, f.drag_rate_limit_per_s, x, y, half_h, vx, vy, vz);
-  // Same order as accelerate() without its drag term.
-  vx += h_s * (kx + (jx + cx + sx));
-  vy += h_s * (ky + (jy + cy + sy));
-  vz += h_s * (kz + (jz + cz + sz));
-  drag_flow(rho, cda, f.drag_rate_limit_per_s, x, y, half_h, vx, vy, vz);
-}
-
 // The velocity-independent kick: v += h_s (Kepler + J2 + C22/S22 + SRP) at the fixed position, the same
-// terms in the same order as kick() without its drag.
+// terms in the same order as accelerate() without its drag.
 [[gnu::always_inline]] inline void conservative_kick(const ForceInstant& f, double h_s, double x, double y,
                                                      double z, double& vx, double& vy, double& vz,
                                                      double srp_area_to_mass) {
@@ -137,6 +109,24 @@ template <AtmosphereModel kAtmosphere>
   vx += h_s * (kx + (jx + cx + sx));
   vy += h_s * (ky + (jy + cy + sy));
   vz += h_s * (kz + (jz + cz + sz));
+}
+
+// The propagator's kick: the velocity after h_s seconds at the fixed position (x, y, z) and instant f
+// (h_s may be negative). drag_flow(h/2), then v += h (Kepler + J2 + C22/S22 + SRP), then drag_flow(h/2):
+// a symmetric composition of exact sub-flows, so kick(-h) undoes kick(h) (up to rounding and the drag
+// cap), which keeps the Yoshida step 4th order with drag. Same terms and density as accelerate(); the
+// two halves of drag read one density.
+template <AtmosphereModel kAtmosphere>
+[[gnu::always_inline]] inline void kick(const ForceInstant& f, double h_s, double x, double y, double z,
+                                        double& vx, double& vy, double& vz, double drag_area_to_mass,
+                                        double srp_area_to_mass) {
+  const double r = std::sqrt(x * x + y * y + z * z);
+  const double rho = atmosphere_density<kAtmosphere>(f, x, y, z, r - constants::kEarthEquatorialRadius_m);
+  const double cda = f.drag_scale * drag_area_to_mass;
+  const double half_h = 0.5 * h_s;
+  drag_flow(rho, cda, f.drag_rate_limit_per_s, x, y, half_h, vx, vy, vz);
+  conservative_kick(f, h_s, x, y, z, vx, vy, vz, srp_area_to_mass);
+  drag_flow(rho, cda, f.drag_rate_limit_per_s, x, y, half_h, vx, vy, vz);
 }
 
 // Drag alone over h_s seconds at the fixed position (x, y, z), its exact flow (drag.hpp) with the density

@@ -211,6 +211,50 @@ TEST(Reference, SharedScanPartsTogetherGiveTheWholeScan) {
   EXPECT_THROW(detector.set_share(0, 0), std::invalid_argument);
 }
 
+// The parts of a shared scan in step, as MPI ranks run them: after each step every part is told all
+// parts' occupied cells, so their cells coarsen alike where the population is sparse (each part sorts
+// only its own regions' cells). The encounters together are still the whole scan's, and the parts'
+// cells are coarser than those of parts that are told nothing (whose cells never coarsen).
+TEST(Reference, SharedScanPartsCoarsenTheirCellsAlike) {
+  const RandomLeo& scenario = random_leo(false);
+  const std::vector<StateArrays> first(scenario.snaps.begin(), scenario.snaps.begin() + 41);
+  ConjunctionSettings s;
+  s.screening_distance_m = 20e3;
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(2);
+  const auto whole = testing::run_detector(scenario.population, first, kDt, s);
+  ASSERT_GT(whole.size(), 20u);
+  constexpr std::size_t kParts = 3;
+  std::vector<ConjunctionDetector> told, untold;
+  for (std::size_t part = 0; part < kParts; ++part) {
+    told.emplace_back(s);
+    told.back().set_share(part, kParts);
+    untold.emplace_back(s);
+    untold.back().set_share(part, kParts);
+  }
+  std::vector<Encounter> together, ignored;
+  double told_cell_m = 0.0, untold_cell_m = 0.0;
+  for (std::size_t k = 0; k + 1 < first.size(); ++k) {
+    const StepEnds step{static_cast<double>(k) * kDt, kDt, &first[k], &first[k + 1]};
+    std::size_t occupied = 0;
+    for (std::size_t part = 0; part < kParts; ++part) {
+      told[part].scan(scenario.population, step, together);
+      untold[part].scan(scenario.population, step, ignored);
+      occupied += told[part].sorted_occupied_cells();
+      ASSERT_EQ(told[part].grid().cell_size_m(), told[0].grid().cell_size_m()) << "step " << k;
+      ASSERT_EQ(told[part].grid().slot_count(), told[0].grid().slot_count()) << "step " << k;
+    }
+    for (ConjunctionDetector& detector : told) detector.set_all_parts_occupied(occupied);
+    told_cell_m = told[0].grid().cell_size_m();
+    untold_cell_m = untold[0].grid().cell_size_m();
+  }
+  omp_set_num_threads(saved);
+  EXPECT_GT(told_cell_m, 1.5 * untold_cell_m) << "a sparse population's cells should coarsen";
+  std::sort(together.begin(), together.end(), canonical_less);
+  ASSERT_EQ(together.size(), whole.size());
+  for (std::size_t k = 0; k < whole.size(); ++k) ASSERT_TRUE(bitwise_equal(together[k], whole[k])) << k;
+}
+
 TEST(Reference, SixteenAndTwentyThreadsMatchOneOnTheFirstSteps) {
   // 16 threads: a region of space each; 20: more threads than regions, so some regions are sorted by
   // two threads, and each region's walk waits for both (there is no barrier after the sort).
