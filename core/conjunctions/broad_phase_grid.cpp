@@ -37,11 +37,12 @@ void BroadPhaseGrid::prepare(std::size_t n, int threads) {
   oversized_flag_.resize(n);
   scratch_.resize(2 * n);
   ensure_slot_capacity(n);
-  // One region per thread (at most kMaxRegions), per thread of each part when shared (set_share). At least 2 buckets per object in all, a power of two
-  // per region: occupied cells hold 4-8 objects where the coarsening can reach that (load ~1/16), and
-  // one object at worst (load <= 1/2); the occupancy bitmap makes empty buckets cheap. Each step the
-  // sort clears, counts and sums the whole table, so more buckets per object cost more than they save.
-  // Up to kMaxPartitions coarse partitions for the sort, each of at least 64 buckets.
+  // One region per thread (at most kMaxRegions), per thread of each part when shared (set_share). At least 2
+  // buckets per object in all, a power of two per region: occupied cells hold 4-8 objects where the
+  // coarsening can reach that (load ~1/16), and one object at worst (load <= 1/2); the occupancy bitmap makes
+  // empty buckets cheap. Each step the sort clears, counts and sums the whole table, so more buckets per
+  // object cost more than they save. Up to kMaxPartitions coarse partitions for the sort, each of at least 64
+  // buckets.
   const std::size_t team = static_cast<std::size_t>(std::max(threads, 1));
   regions_ = std::min(settings_.regions > 0 ? settings_.regions : team * share_parts_, kMaxRegions);
   std::size_t region_buckets = 64;

@@ -313,7 +313,7 @@ class BroadPhaseGrid {
 
   GridSettings settings_;
   std::size_t share_part_ = 0, share_parts_ = 1;  // set_share
-  std::size_t all_parts_occupied_ = 0;           // set_all_parts_occupied, for the last build
+  std::size_t all_parts_occupied_ = 0;            // set_all_parts_occupied, for the last build
   bool all_parts_occupied_known_ = false;
   // Cells: the last build's edges and order, and what the next build starts from. The candidates never
   // depend on the cell edges (only on the boxes), so carrying them from step to step changes no result,

@@ -149,7 +149,7 @@ void BroadPhaseGrid::update_coarsening(std::size_t threads) {
   // The coarsening follows the last build's objects per occupied cell.
   // A shared grid sorted its part's cells only: it follows all parts' (set_all_parts_occupied), or keeps
   // its coarsening, so that every part guesses the same cells.
-  const std::size_t occupied = share_parts_ == 1         ? sorted_occupied_cells()
+  const std::size_t occupied = share_parts_ == 1           ? sorted_occupied_cells()
                                : all_parts_occupied_known_ ? all_parts_occupied_
                                                            : 0;
   all_parts_occupied_known_ = false;

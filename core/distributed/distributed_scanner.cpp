@@ -51,10 +51,10 @@ void DistributedScanner::scan(const Population& population, const StepEnds& step
     bytes_of_rank_[r] = static_cast<int>(shape[0]);
     occupied_cells += static_cast<std::size_t>(shape[3]);
     if (population.size() >= 2 && (shape[1] != mine[1] || shape[2] != mine[2]))
-      throw std::runtime_error("MPI rank " + std::to_string(r) + " laid out another grid (" +
-                               std::to_string(shape[1]) + " slots on " + std::to_string(shape[2]) +
-                               " threads, here " + std::to_string(mine[1]) + " on " + std::to_string(mine[2]) +
-                               "): every rank must scan on the same number of threads (--threads)");
+      throw std::runtime_error(
+          "MPI rank " + std::to_string(r) + " laid out another grid (" + std::to_string(shape[1]) +
+          " slots on " + std::to_string(shape[2]) + " threads, here " + std::to_string(mine[1]) + " on " +
+          std::to_string(mine[2]) + "): every rank must scan on the same number of threads (--threads)");
   }
   detector_.set_all_parts_occupied(occupied_cells);
   std::size_t total_bytes = 0;

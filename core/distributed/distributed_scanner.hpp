@@ -1,9 +1,9 @@
 // A conjunction scan shared out among the ranks of an MPI run: every rank computes the step's boxes and
 // cell keys over the whole population (it holds all of it), sorts and walks its share of the grid's
-// regions and runs the narrow phase on the candidate pairs found there (ConjunctionDetector::set_share); the encounters of all ranks are then
-// gathered to every rank (MPI_Allgatherv) and put in canonical order. A pair belongs to the slot of its
-// first member, so each encounter is found by exactly one rank: the list is bitwise the single-process
-// scan's, on every rank.
+// regions and runs the narrow phase on the candidate pairs found there (ConjunctionDetector::set_share); the
+// encounters of all ranks are then gathered to every rank (MPI_Allgatherv) and put in canonical order. A pair
+// belongs to the slot of its first member, so each encounter is found by exactly one rank: the list is
+// bitwise the single-process scan's, on every rank.
 #pragma once
 
 #include <vector>
