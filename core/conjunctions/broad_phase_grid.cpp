@@ -242,9 +242,19 @@ void BroadPhaseGrid::finish_layout(const ThreadBuild& b, double cell_m, double c
 }
 
 std::pair<std::size_t, std::size_t> BroadPhaseGrid::sorted_slots(std::size_t t, std::size_t threads) const {
+  auto slot_of = [&](std::size_t p) -> std::size_t {
+    return p < partitions_ ? partition_start_[p] : slots_in_grid_;
+  };
   const auto [first, last] = partition_run(t, threads);
-  return {first < partitions_ ? partition_start_[first] : slots_in_grid_,
-          last < partitions_ ? partition_start_[last] : slots_in_grid_};
+  const RegionShare share = region_share();
+  if (share.subs == 1) return {slot_of(first), slot_of(last)};
+  // One region sorted by several parts: each walks its share of the region's slots.
+  const auto [region_first, region_last] = shared_partitions();
+  const std::size_t begin = slot_of(region_first), slots = slot_of(region_last) - begin;
+  const std::size_t cut_first = begin + slots * share.sub / share.subs;
+  const std::size_t cut_last = begin + slots * (share.sub + 1) / share.subs;
+  const std::size_t lo = std::max(slot_of(first), cut_first), hi = std::min(slot_of(last), cut_last);
+  return {lo, std::max(lo, hi)};
 }
 
 bool BroadPhaseGrid::slots_sorted(std::size_t t, std::size_t threads) const {

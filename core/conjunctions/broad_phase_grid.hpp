@@ -71,17 +71,19 @@ class BroadPhaseGrid {
   // The regions of space of the last prepare().
   std::size_t regions() const { return regions_; }
   // Sort and walk only part `part` of `parts` (the MPI ranks of core/distributed/): the grid gets
-  // `parts` times the team's regions, and this part scatters, sorts and walks the partitions of regions
-  // [regions part / parts, regions (part + 1) / parts) only, where every part lays out the same slots
-  // (boxes, keys and counts cover the whole population). The parts' layouts stay alike only if the
-  // cell guesses do: the coarsening follows the occupied cells of all parts (set_all_parts_occupied),
-  // or stays where it is. Default: part 0 of 1.
+  // `parts` times the team's regions (at most kMaxRegions), and this part scatters, sorts and walks the
+  // partitions of regions [G part / parts, G (part + 1) / parts) of the G regions only, where every part
+  // lays out the same slots (boxes, keys and counts cover the whole population). With more parts than
+  // regions, the parts whose share falls in one region each sort all of it and walk their share of its
+  // slots. The parts' layouts stay alike only if the cell guesses do: the coarsening follows the
+  // occupied cells of all parts (set_all_parts_occupied), or stays where it is. Default: part 0 of 1.
   void set_share(std::size_t part, std::size_t parts) {
     share_part_ = part;
     share_parts_ = parts;
   }
-  // The occupied cells of the partitions this grid sorted in its last build; and, from a shared grid's
-  // caller, their sum over all parts for that build, which the next build's coarsening follows.
+  // The occupied cells of the partitions this grid sorted in its last build (0 on all but the first of
+  // the parts that sort one region); and, from a shared grid's caller, their sum over all parts for that
+  // build, which the next build's coarsening follows.
   std::size_t sorted_occupied_cells() const;
   void set_all_parts_occupied(std::size_t cells) {
     all_parts_occupied_ = cells;
@@ -233,11 +235,24 @@ class BroadPhaseGrid {
     const auto [first, last] = shared_partitions();
     return {first + (last - first) * t / threads, first + (last - first) * (t + 1) / threads};
   }
-  // The partitions this part sorts and walks: those of its regions (all, unshared).
+  // This part's share (set_share): regions [first_region, last_region), of whose slots it walks share
+  // `sub` of `subs` (more parts than regions: the parts p with G p / parts == the region share it).
+  struct RegionShare {
+    std::size_t first_region, last_region, sub, subs;
+  };
+  RegionShare region_share() const {
+    const std::size_t g = regions_, part = share_part_, parts = share_parts_;
+    if (parts <= g) return {g * part / parts, g * (part + 1) / parts, 0, 1};
+    const std::size_t region = g * part / parts;
+    const std::size_t first_part = (region * parts + g - 1) / g,
+                      end_part = ((region + 1) * parts + g - 1) / g;
+    return {region, region + 1, part - first_part, end_part - first_part};
+  }
+  // The partitions this part sorts: those of its regions (all, unshared).
   std::pair<std::size_t, std::size_t> shared_partitions() const {
     const std::size_t per_region = partitions_ / regions_;
-    return {per_region * (regions_ * share_part_ / share_parts_),
-            per_region * (regions_ * (share_part_ + 1) / share_parts_)};
+    const RegionShare share = region_share();
+    return {per_region * share.first_region, per_region * share.last_region};
   }
   // The region of partition p (each region holds 2^(region_bits_ - fine_bits_) partitions).
   std::size_t region_of_partition(std::size_t p) const { return p >> (region_bits_ - fine_bits_); }

@@ -158,6 +158,7 @@ void BroadPhaseGrid::update_coarsening(std::size_t threads) {
 }
 
 std::size_t BroadPhaseGrid::sorted_occupied_cells() const {
+  if (region_share().sub != 0) return 0;  // another part counts this region's cells
   std::size_t occupied = 0;
   for (std::size_t u = 0; u < occupancy_team_; ++u) occupied += thread_occupied_[u];
   return occupied;

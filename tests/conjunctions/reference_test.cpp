@@ -170,8 +170,9 @@ TEST(Reference, UnequalChunksGiveTheSameEvents) {
 
 // A scan shared out in parts (ConjunctionDetector::set_share, as the MPI ranks of core/distributed/ share
 // it): the parts' encounters together, in canonical order, are bitwise the whole scan's, each found once,
-// with one thread per part and with teams of 2 and 3 threads (whose grids have several regions, whose
-// borders the parts must place alike).
+// with one thread per part and with teams of 2, 3 and 4 threads (whose grids have several regions, whose
+// borders the parts must place alike); with parts x threads above the grid's 16 regions, and with more
+// parts than regions (several parts share a region's slots).
 TEST(Reference, SharedScanPartsTogetherGiveTheWholeScan) {
   const RandomLeo& scenario = random_leo(false);
   const std::vector<StateArrays> first(scenario.snaps.begin(), scenario.snaps.begin() + 41);
@@ -181,29 +182,31 @@ TEST(Reference, SharedScanPartsTogetherGiveTheWholeScan) {
   omp_set_num_threads(2);
   const auto whole = testing::run_detector(scenario.population, first, kDt, s);
   ASSERT_GT(whole.size(), 20u);
-  for (int threads : {1, 2, 3}) {
+  const std::pair<int, std::size_t> cases[] = {{1, 2}, {1, 3}, {1, 4}, {2, 2}, {2, 3},  {2, 4}, {3, 2},
+                                               {3, 3}, {3, 4}, {4, 5}, {2, 9}, {1, 20}, {2, 23}};
+  for (const auto& [threads, parts] : cases) {
     omp_set_num_threads(threads);
-    for (std::size_t parts : {2u, 3u, 4u}) {
-      std::vector<Encounter> together;
-      std::size_t parts_with_events = 0;
-      for (std::size_t part = 0; part < parts; ++part) {
-        ConjunctionDetector detector(s);
-        detector.set_share(part, parts);
-        std::vector<Encounter> mine;
-        for (std::size_t k = 0; k + 1 < first.size(); ++k) {
-          const StepEnds step{static_cast<double>(k) * kDt, kDt, &first[k], &first[k + 1]};
-          detector.scan(scenario.population, step, mine);
-        }
-        parts_with_events += mine.empty() ? 0 : 1;
-        together.insert(together.end(), mine.begin(), mine.end());
+    std::vector<Encounter> together;
+    std::size_t parts_with_pairs = 0;
+    for (std::size_t part = 0; part < parts; ++part) {
+      ConjunctionDetector detector(s);
+      detector.set_share(part, parts);
+      std::vector<Encounter> mine;
+      std::size_t pairs = 0;
+      for (std::size_t k = 0; k + 1 < first.size(); ++k) {
+        const StepEnds step{static_cast<double>(k) * kDt, kDt, &first[k], &first[k + 1]};
+        detector.scan(scenario.population, step, mine);
+        pairs += detector.last_candidate_pairs();
       }
-      std::sort(together.begin(), together.end(), canonical_less);
-      EXPECT_GE(parts_with_events, 2u) << parts << " parts: the work should be shared";
-      ASSERT_EQ(together.size(), whole.size()) << parts << " parts of " << threads << " threads";
-      for (std::size_t k = 0; k < whole.size(); ++k)
-        ASSERT_TRUE(bitwise_equal(together[k], whole[k]))
-            << parts << " parts of " << threads << " threads: " << k;
+      parts_with_pairs += pairs > 0 ? 1 : 0;
+      together.insert(together.end(), mine.begin(), mine.end());
     }
+    std::sort(together.begin(), together.end(), canonical_less);
+    EXPECT_EQ(parts_with_pairs, parts) << parts << " parts of " << threads << " threads: each walks a share";
+    ASSERT_EQ(together.size(), whole.size()) << parts << " parts of " << threads << " threads";
+    for (std::size_t k = 0; k < whole.size(); ++k)
+      ASSERT_TRUE(bitwise_equal(together[k], whole[k]))
+          << parts << " parts of " << threads << " threads: " << k;
   }
   omp_set_num_threads(saved);
   ConjunctionDetector detector(s);
@@ -212,47 +215,51 @@ TEST(Reference, SharedScanPartsTogetherGiveTheWholeScan) {
 }
 
 // The parts of a shared scan in step, as MPI ranks run them: after each step every part is told all
-// parts' occupied cells, so their cells coarsen alike where the population is sparse (each part sorts
-// only its own regions' cells). The encounters together are still the whole scan's, and the parts'
-// cells are coarser than those of parts that are told nothing (whose cells never coarsen).
+// parts' occupied cells (each part sorts only its own regions' cells), so their cells coarsen alike, and
+// exactly as those of one detector whose grid has the same regions (no region's cells counted twice, also
+// where several parts share a region). The encounters together are still the whole scan's, and parts
+// that are told nothing keep finer cells (they never coarsen).
 TEST(Reference, SharedScanPartsCoarsenTheirCellsAlike) {
   const RandomLeo& scenario = random_leo(false);
   const std::vector<StateArrays> first(scenario.snaps.begin(), scenario.snaps.begin() + 41);
   ConjunctionSettings s;
   s.screening_distance_m = 20e3;
   const int saved = omp_get_max_threads();
-  omp_set_num_threads(2);
-  const auto whole = testing::run_detector(scenario.population, first, kDt, s);
-  ASSERT_GT(whole.size(), 20u);
-  constexpr std::size_t kParts = 3;
-  std::vector<ConjunctionDetector> told, untold;
-  for (std::size_t part = 0; part < kParts; ++part) {
-    told.emplace_back(s);
-    told.back().set_share(part, kParts);
-    untold.emplace_back(s);
-    untold.back().set_share(part, kParts);
-  }
-  std::vector<Encounter> together, ignored;
-  double told_cell_m = 0.0, untold_cell_m = 0.0;
-  for (std::size_t k = 0; k + 1 < first.size(); ++k) {
-    const StepEnds step{static_cast<double>(k) * kDt, kDt, &first[k], &first[k + 1]};
-    std::size_t occupied = 0;
-    for (std::size_t part = 0; part < kParts; ++part) {
-      told[part].scan(scenario.population, step, together);
-      untold[part].scan(scenario.population, step, ignored);
-      occupied += told[part].sorted_occupied_cells();
-      ASSERT_EQ(told[part].grid().cell_size_m(), told[0].grid().cell_size_m()) << "step " << k;
-      ASSERT_EQ(told[part].grid().slot_count(), told[0].grid().slot_count()) << "step " << k;
+  for (const auto& [threads, parts] : {std::pair<int, std::size_t>{2, 3}, {1, 20}}) {
+    omp_set_num_threads(threads);
+    const std::size_t regions = std::min<std::size_t>(parts * static_cast<std::size_t>(threads), 16);
+    ConjunctionDetector one(s, GridSettings{regions});
+    std::vector<ConjunctionDetector> told, untold;
+    for (std::size_t part = 0; part < parts; ++part) {
+      told.emplace_back(s);
+      told.back().set_share(part, parts);
+      untold.emplace_back(s);
+      untold.back().set_share(part, parts);
     }
-    for (ConjunctionDetector& detector : told) detector.set_all_parts_occupied(occupied);
-    told_cell_m = told[0].grid().cell_size_m();
-    untold_cell_m = untold[0].grid().cell_size_m();
+    std::vector<Encounter> whole, together, ignored;
+    double told_cell_m = 0.0, untold_cell_m = 0.0;
+    for (std::size_t k = 0; k + 1 < first.size(); ++k) {
+      const StepEnds step{static_cast<double>(k) * kDt, kDt, &first[k], &first[k + 1]};
+      one.scan(scenario.population, step, whole);
+      std::size_t occupied = 0;
+      for (std::size_t part = 0; part < parts; ++part) {
+        told[part].scan(scenario.population, step, together);
+        untold[part].scan(scenario.population, step, ignored);
+        occupied += told[part].sorted_occupied_cells();
+        ASSERT_EQ(told[part].grid().cell_size_m(), one.grid().cell_size_m()) << parts << " parts, step " << k;
+        ASSERT_EQ(told[part].grid().slot_count(), one.grid().slot_count()) << parts << " parts, step " << k;
+      }
+      for (ConjunctionDetector& detector : told) detector.set_all_parts_occupied(occupied);
+      told_cell_m = told[0].grid().cell_size_m();
+      untold_cell_m = untold[0].grid().cell_size_m();
+    }
+    EXPECT_GT(told_cell_m, 1.5 * untold_cell_m)
+        << parts << " parts: a sparse population's cells should coarsen";
+    std::sort(together.begin(), together.end(), canonical_less);
+    ASSERT_EQ(together.size(), whole.size()) << parts << " parts";
+    for (std::size_t k = 0; k < whole.size(); ++k) ASSERT_TRUE(bitwise_equal(together[k], whole[k])) << k;
   }
   omp_set_num_threads(saved);
-  EXPECT_GT(told_cell_m, 1.5 * untold_cell_m) << "a sparse population's cells should coarsen";
-  std::sort(together.begin(), together.end(), canonical_less);
-  ASSERT_EQ(together.size(), whole.size());
-  for (std::size_t k = 0; k < whole.size(); ++k) ASSERT_TRUE(bitwise_equal(together[k], whole[k])) << k;
 }
 
 TEST(Reference, SixteenAndTwentyThreadsMatchOneOnTheFirstSteps) {
