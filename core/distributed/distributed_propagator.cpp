@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <utility>
 
 #include "core/distributed/decomposition.hpp"
 
@@ -44,8 +45,7 @@ void DistributedPropagator::copy_in(const Population& population, std::size_t be
   copy_run(population.srp_area_to_mass_m2_kg, begin, end, slice_.srp_area_to_mass_m2_kg);
 }
 
-void DistributedPropagator::copy_out(Population& population, std::size_t begin) const {
-  StateArrays& to = population.state;
+void DistributedPropagator::copy_out(StateArrays& to, std::size_t begin) const {
   const StateArrays& from = slice_.state;
   copy_back(from.x, begin, to.x);
   copy_back(from.y, begin, to.y);
@@ -65,7 +65,11 @@ void DistributedPropagator::step_with(Population& population, double t_start_s, 
                                       const StepRequest& request) {
   const std::size_t n = population.size();
   const IndexRun run = run_of_rank(n, team_.rank(), team_.ranks());
-  if (request.start_out != nullptr) *request.start_out = population.state;
+  // With the start states asked for, the new states are gathered into that buffer, which then trades
+  // places with the population's: the start states are where the population's were, with no copy of
+  // the whole population on every rank.
+  StateArrays* const next = request.start_out;
+  if (next != nullptr) next->resize(n);
   // This rank's objects, stepped by the inner propagator; a failure on any rank fails all of them.
   team_.all_or_none([&] {
     const double start = MPI_Wtime();
@@ -76,7 +80,7 @@ void DistributedPropagator::step_with(Population& population, double t_start_s, 
       inner.burn_up_radius2 = request.burn_up_radius2;
     }
     inner_->step_with(slice_, t_start_s, dt_s, inner);
-    copy_out(population, run.begin);
+    copy_out(next != nullptr ? *next : population.state, run.begin);
     compute_s_ += MPI_Wtime() - start;
   });
   // Every rank's new states (and flags) to every rank, in place. (The count was checked against int at
@@ -87,9 +91,10 @@ void DistributedPropagator::step_with(Population& population, double t_start_s, 
     layout_ = *layout;
     layout_objects_ = n;
   }
-  StateArrays& state = population.state;
+  StateArrays& state = next != nullptr ? *next : population.state;
   for (std::vector<double>* column : {&state.x, &state.y, &state.z, &state.vx, &state.vy, &state.vz})
     gather_column(column->data(), MPI_DOUBLE, layout_);
+  if (next != nullptr) std::swap(population.state, *next);
   if (request.burn_up_flags != nullptr) {
     std::vector<char>& flags = *request.burn_up_flags;
     flags.resize(n);

@@ -30,9 +30,9 @@ class DistributedPropagator final : public Propagator {
   double compute_s() const { return compute_s_; }
 
  private:
-  // The run's objects copied into slice_, and the slice's new states back into `population`.
+  // The run's objects copied into slice_, and the slice's new states back into `to` from index begin.
   void copy_in(const Population& population, std::size_t begin, std::size_t end);
-  void copy_out(Population& population, std::size_t begin) const;
+  void copy_out(StateArrays& to, std::size_t begin) const;
   // Every rank's run of `column` to every rank, in place.
   void gather_column(void* column, MPI_Datatype type, const GatherLayout& layout);
 
