@@ -8,6 +8,9 @@
 #include <iostream>
 #include <map>
 #include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "tests/conjunctions/brute_force_reference.hpp"
 #include "tests/conjunctions/scenario.hpp"
@@ -168,19 +171,40 @@ TEST(Reference, UnequalChunksGiveTheSameEvents) {
   omp_set_num_threads(saved);
 }
 
+// The shared scans' case: the random LEO scenario's first 40 steps, screened at 20 km.
+struct FirstSteps {
+  const RandomLeo& scenario = random_leo(false);
+  std::vector<StateArrays> states{scenario.snaps.begin(), scenario.snaps.begin() + 41};
+  ConjunctionSettings settings = [] {
+    ConjunctionSettings s;
+    s.screening_distance_m = 20e3;
+    return s;
+  }();
+  std::size_t steps() const { return states.size() - 1; }
+  StepEnds step(std::size_t k) const {
+    return {static_cast<double>(k) * kDt, kDt, &states[k], &states[k + 1]};
+  }
+};
+
+// The parts' encounters together, in canonical order, are bitwise the whole scan's.
+void expect_whole_scan(std::vector<Encounter> together, const std::vector<Encounter>& whole,
+                       const std::string& what) {
+  std::sort(together.begin(), together.end(), canonical_less);
+  ASSERT_EQ(together.size(), whole.size()) << what;
+  for (std::size_t k = 0; k < whole.size(); ++k)
+    ASSERT_TRUE(bitwise_equal(together[k], whole[k])) << what << ": " << k;
+}
+
 // A scan shared out in parts (ConjunctionDetector::set_share, as the MPI ranks of core/distributed/ share
 // it): the parts' encounters together, in canonical order, are bitwise the whole scan's, each found once,
 // with one thread per part and with teams of 2, 3 and 4 threads (whose grids have several regions, whose
 // borders the parts must place alike); with parts x threads above the grid's 16 regions, and with more
 // parts than regions (several parts share a region's slots).
 TEST(Reference, SharedScanPartsTogetherGiveTheWholeScan) {
-  const RandomLeo& scenario = random_leo(false);
-  const std::vector<StateArrays> first(scenario.snaps.begin(), scenario.snaps.begin() + 41);
-  ConjunctionSettings s;
-  s.screening_distance_m = 20e3;
+  const FirstSteps first;
   const int saved = omp_get_max_threads();
   omp_set_num_threads(2);
-  const auto whole = testing::run_detector(scenario.population, first, kDt, s);
+  const auto whole = testing::run_detector(first.scenario.population, first.states, kDt, first.settings);
   ASSERT_GT(whole.size(), 20u);
   const std::pair<int, std::size_t> cases[] = {{1, 2}, {1, 3}, {1, 4}, {2, 2}, {2, 3},  {2, 4}, {3, 2},
                                                {3, 3}, {3, 4}, {4, 5}, {2, 9}, {1, 20}, {2, 23}};
@@ -189,27 +213,21 @@ TEST(Reference, SharedScanPartsTogetherGiveTheWholeScan) {
     std::vector<Encounter> together;
     std::size_t parts_with_pairs = 0;
     for (std::size_t part = 0; part < parts; ++part) {
-      ConjunctionDetector detector(s);
+      ConjunctionDetector detector(first.settings);
       detector.set_share(part, parts);
-      std::vector<Encounter> mine;
       std::size_t pairs = 0;
-      for (std::size_t k = 0; k + 1 < first.size(); ++k) {
-        const StepEnds step{static_cast<double>(k) * kDt, kDt, &first[k], &first[k + 1]};
-        detector.scan(scenario.population, step, mine);
+      for (std::size_t k = 0; k < first.steps(); ++k) {
+        detector.scan(first.scenario.population, first.step(k), together);
         pairs += detector.last_candidate_pairs();
       }
       parts_with_pairs += pairs > 0 ? 1 : 0;
-      together.insert(together.end(), mine.begin(), mine.end());
     }
-    std::sort(together.begin(), together.end(), canonical_less);
-    EXPECT_EQ(parts_with_pairs, parts) << parts << " parts of " << threads << " threads: each walks a share";
-    ASSERT_EQ(together.size(), whole.size()) << parts << " parts of " << threads << " threads";
-    for (std::size_t k = 0; k < whole.size(); ++k)
-      ASSERT_TRUE(bitwise_equal(together[k], whole[k]))
-          << parts << " parts of " << threads << " threads: " << k;
+    const std::string what = std::to_string(parts) + " parts of " + std::to_string(threads) + " threads";
+    EXPECT_EQ(parts_with_pairs, parts) << what << ": each walks a share";
+    expect_whole_scan(together, whole, what);
   }
   omp_set_num_threads(saved);
-  ConjunctionDetector detector(s);
+  ConjunctionDetector detector(first.settings);
   EXPECT_THROW(detector.set_share(2, 2), std::invalid_argument);
   EXPECT_THROW(detector.set_share(0, 0), std::invalid_argument);
 }
@@ -220,44 +238,36 @@ TEST(Reference, SharedScanPartsTogetherGiveTheWholeScan) {
 // where several parts share a region). The encounters together are still the whole scan's, and parts
 // that are told nothing keep finer cells (they never coarsen).
 TEST(Reference, SharedScanPartsCoarsenTheirCellsAlike) {
-  const RandomLeo& scenario = random_leo(false);
-  const std::vector<StateArrays> first(scenario.snaps.begin(), scenario.snaps.begin() + 41);
-  ConjunctionSettings s;
-  s.screening_distance_m = 20e3;
+  const FirstSteps first;
+  const Population& population = first.scenario.population;
   const int saved = omp_get_max_threads();
   for (const auto& [threads, parts] : {std::pair<int, std::size_t>{2, 3}, {1, 20}}) {
     omp_set_num_threads(threads);
     const std::size_t regions = std::min<std::size_t>(parts * static_cast<std::size_t>(threads), 16);
-    ConjunctionDetector one(s, GridSettings{regions});
+    ConjunctionDetector one(first.settings, GridSettings{regions});
     std::vector<ConjunctionDetector> told, untold;
     for (std::size_t part = 0; part < parts; ++part) {
-      told.emplace_back(s);
+      told.emplace_back(first.settings);
       told.back().set_share(part, parts);
-      untold.emplace_back(s);
+      untold.emplace_back(first.settings);
       untold.back().set_share(part, parts);
     }
     std::vector<Encounter> whole, together, ignored;
-    double told_cell_m = 0.0, untold_cell_m = 0.0;
-    for (std::size_t k = 0; k + 1 < first.size(); ++k) {
-      const StepEnds step{static_cast<double>(k) * kDt, kDt, &first[k], &first[k + 1]};
-      one.scan(scenario.population, step, whole);
+    for (std::size_t k = 0; k < first.steps(); ++k) {
+      one.scan(population, first.step(k), whole);
       std::size_t occupied = 0;
       for (std::size_t part = 0; part < parts; ++part) {
-        told[part].scan(scenario.population, step, together);
-        untold[part].scan(scenario.population, step, ignored);
+        told[part].scan(population, first.step(k), together);
+        untold[part].scan(population, first.step(k), ignored);
         occupied += told[part].sorted_occupied_cells();
         ASSERT_EQ(told[part].grid().cell_size_m(), one.grid().cell_size_m()) << parts << " parts, step " << k;
         ASSERT_EQ(told[part].grid().slot_count(), one.grid().slot_count()) << parts << " parts, step " << k;
       }
       for (ConjunctionDetector& detector : told) detector.set_all_parts_occupied(occupied);
-      told_cell_m = told[0].grid().cell_size_m();
-      untold_cell_m = untold[0].grid().cell_size_m();
     }
-    EXPECT_GT(told_cell_m, 1.5 * untold_cell_m)
+    EXPECT_GT(told[0].grid().cell_size_m(), 1.5 * untold[0].grid().cell_size_m())
         << parts << " parts: a sparse population's cells should coarsen";
-    std::sort(together.begin(), together.end(), canonical_less);
-    ASSERT_EQ(together.size(), whole.size()) << parts << " parts";
-    for (std::size_t k = 0; k < whole.size(); ++k) ASSERT_TRUE(bitwise_equal(together[k], whole[k])) << k;
+    expect_whole_scan(together, whole, std::to_string(parts) + " parts");
   }
   omp_set_num_threads(saved);
 }
