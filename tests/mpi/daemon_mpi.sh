@@ -7,7 +7,8 @@
 # (--mpi-retries), killed again it fails the run with the job's end named, and `kessler resume` then ends
 # it with the fingerprint of the run without MPI.
 # A daemon stopped mid-run leaves the run resumable: the next one ends it with the fingerprint of the run
-# without MPI. Bad --mpi-* flags: exit 2 naming the flag.
+# without MPI. A launcher whose hostfile is missing fails the run with its message, and the daemon serves
+# on. Bad --mpi-* flags: exit 2 naming the flag.
 # Usage: daemon_mpi.sh KESSLER KESSLERD KESSLER_MPI MPIEXEC SCENARIO LONG_SCENARIO [LAUNCHER]
 # LAUNCHER (default "MPIEXEC --oversubscribe --allow-run-as-root -np 2") starts the 2 ranks, e.g.
 # "srun -n 2 --mpi=pmix" under Slurm.
@@ -201,4 +202,21 @@ resumed=$(fingerprint <"$dir/resumed.jsonl")
 echo "resumed by the next daemon: $resumed"
 echo "kessler run --local:        $whole"
 test "$resumed" = "$whole"
+
+# 6. A hostfile the launcher cannot open (mpirun only): the run fails with the launcher's message (after
+# the one retry), the daemon keeps serving, and the runs stored before are intact.
+if test -z "$7"; then
+  kill -TERM "$daemon"
+  wait "$daemon"
+  daemon=""
+  launcher_line="$mpiexec --oversubscribe --allow-run-as-root -np 2 --hostfile $dir/no-such-hosts"
+  start_daemon
+  code=0
+  "$kessler" submit "$scenario" --watch --output json >"$dir/hostfile.jsonl" 2>&1 || code=$?
+  tail -n 1 "$dir/hostfile.jsonl"
+  test "$code" -eq 1
+  grep -q "unable to open the hostfile" "$dir/hostfile.jsonl"
+  "$kessler" show "$run" --output json | tail -n 1 | fingerprint >"$dir/shown-after"
+  test "$(cat "$dir/shown-after")" = "$whole"
+fi
 echo "ok"
