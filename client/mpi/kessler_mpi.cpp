@@ -133,6 +133,12 @@ struct LoopFigures {
   std::int64_t steps = 0;
   double start_s = 0.0, loop_s = 0.0;
   double mpi_s_at_start = 0.0;
+  // The shared parts (null when the scenario has no scanner) and their seconds before the loop.
+  const distributed::DistributedPropagator* propagator = nullptr;
+  const distributed::DistributedScanner* scanner = nullptr;
+  double propagate_s_at_start = 0.0, scan_s_at_start = 0.0;
+  double propagate_s() const { return propagator ? propagator->compute_s() - propagate_s_at_start : 0.0; }
+  double scan_s() const { return scanner ? scanner->compute_s() - scan_s_at_start : 0.0; }
 };
 
 long peak_rss_kb() {
@@ -142,22 +148,27 @@ long peak_rss_kb() {
 }
 
 // One JSON line on stderr (rank 0): the loop's cost per object-step and its communication share, the
-// slowest rank's; peak memory per rank.
+// slowest rank's; the shares of the loop each rank spends on average in its part of the propagation and
+// of the scan; peak memory per rank.
 void report_timing(distributed::RankTeam& team, const LoopFigures& loop, int threads) {
-  double figures[3] = {loop.loop_s, team.mpi_s() - loop.mpi_s_at_start, static_cast<double>(peak_rss_kb())};
-  double max[3] = {}, sum[3] = {};
-  MPI_Reduce(figures, max, 3, MPI_DOUBLE, MPI_MAX, 0, team.comm());
-  MPI_Reduce(figures, sum, 3, MPI_DOUBLE, MPI_SUM, 0, team.comm());
+  constexpr int kFigures = 5;
+  double figures[kFigures] = {loop.loop_s, team.mpi_s() - loop.mpi_s_at_start,
+                              static_cast<double>(peak_rss_kb()), loop.propagate_s(), loop.scan_s()};
+  double max[kFigures] = {}, sum[kFigures] = {};
+  MPI_Reduce(figures, max, kFigures, MPI_DOUBLE, MPI_MAX, 0, team.comm());
+  MPI_Reduce(figures, sum, kFigures, MPI_DOUBLE, MPI_SUM, 0, team.comm());
   if (team.rank() != 0) return;
   const double object_steps = static_cast<double>(loop.objects) * static_cast<double>(loop.steps);
+  auto mean_share = [&](int k) { return max[0] > 0 ? sum[k] / team.ranks() / max[0] : 0.0; };
   std::ostringstream line;
   line.precision(6);
   line << "{\"type\":\"mpi_timing\",\"ranks\":" << team.ranks() << ",\"threads_per_rank\":" << threads
        << ",\"objects\":" << loop.objects << ",\"steps\":" << loop.steps << ",\"loop_s\":" << max[0]
        << ",\"ns_per_object_step\":" << (object_steps > 0 ? max[0] * 1e9 / object_steps : 0.0)
        << ",\"mpi_s_mean\":" << sum[1] / team.ranks() << ",\"mpi_s_max\":" << max[1]
-       << ",\"mpi_share_mean\":" << (max[0] > 0 ? sum[1] / team.ranks() / max[0] : 0.0)
-       << ",\"peak_rss_mib_max\":" << max[2] / 1024.0 << ",\"peak_rss_bytes_per_object_max\":"
+       << ",\"mpi_share_mean\":" << mean_share(1) << ",\"propagate_share_mean\":" << mean_share(3)
+       << ",\"scan_share_mean\":" << mean_share(4) << ",\"peak_rss_mib_max\":" << max[2] / 1024.0
+       << ",\"peak_rss_bytes_per_object_max\":"
        << (loop.objects > 0 ? max[2] * 1024.0 / static_cast<double>(loop.objects) : 0.0) << "}";
   std::cerr << line.str() << std::endl;
 }
@@ -191,14 +202,18 @@ int run_ranks(MpiOptions& o, distributed::RankTeam& team) {
     count_stop_lines();
   }
   StopAgreement agreement(team, !run.checkpoint_dir.empty() || o.event_stream);
+  LoopFigures loop;
   run.build.adjust_parts = [&](const SimulationConfig& config, SimulationParts& parts) {
     auto shared = std::make_unique<distributed::DistributedPropagator>(std::move(parts.propagator), team);
+    loop.propagator = shared.get();
     parts.propagator = std::make_unique<AgreeingPropagator>(std::move(shared), agreement);
     // The scanner the scenario's parts hold, on this rank's share of the grid (same settings).
-    if (parts.scanner)
-      parts.scanner = std::make_unique<distributed::DistributedScanner>(config.conjunctions, team);
+    if (parts.scanner) {
+      auto scanner = std::make_unique<distributed::DistributedScanner>(config.conjunctions, team);
+      loop.scanner = scanner.get();
+      parts.scanner = std::move(scanner);
+    }
   };
-  LoopFigures loop;
   run.check_built = [&](const Simulation& sim) -> std::optional<std::string> {
     loop.objects = sim.population().size();
     loop.steps = sim.total_steps() - sim.step();
@@ -215,6 +230,8 @@ int run_ranks(MpiOptions& o, distributed::RankTeam& team) {
       if (o.timing) MPI_Barrier(team.comm());
       loop.start_s = MPI_Wtime();
       loop.mpi_s_at_start = team.mpi_s();
+      loop.propagate_s_at_start = loop.propagate_s();
+      loop.scan_s_at_start = loop.scan_s();
     } else {
       std::signal(SIGINT, SIG_DFL);
       std::signal(SIGTERM, SIG_DFL);

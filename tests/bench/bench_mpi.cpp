@@ -24,6 +24,7 @@ namespace {
 
 struct MpiTiming {
   double ns_per_object_step = 0.0, mpi_share = 0.0, rss_bytes_per_object = 0.0, rss_mib = 0.0;
+  double propagate_share = 0.0, scan_share = 0.0;
 };
 
 // A number after "key": in a JSON line (no nesting needed: kessler-mpi's timing line is flat).
@@ -69,6 +70,8 @@ std::optional<MpiTiming> run_job(const std::string& mpirun, const std::string& p
   MpiTiming t;
   t.ns_per_object_step = json_number(timing, "ns_per_object_step").value_or(0.0);
   t.mpi_share = json_number(timing, "mpi_share_mean").value_or(0.0);
+  t.propagate_share = json_number(timing, "propagate_share_mean").value_or(0.0);
+  t.scan_share = json_number(timing, "scan_share_mean").value_or(0.0);
   t.rss_bytes_per_object = json_number(timing, "peak_rss_bytes_per_object_max").value_or(0.0);
   t.rss_mib = json_number(timing, "peak_rss_mib_max").value_or(0.0);
   return t;
@@ -113,7 +116,7 @@ int run(int argc, char** argv) {
   setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 0);
   setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 0);
 
-  std::vector<double> one_rank, many, shares, bytes, mib;
+  std::vector<double> one_rank, many, shares, bytes, mib, propagate_shares, scan_shares;
   for (int rep = 0; rep < repeats; ++rep) {
     auto single = run_job(mpirun, program, dir, 1, ranks * threads);
     auto split = run_job(mpirun, program, dir, ranks, threads);
@@ -124,6 +127,8 @@ int run(int argc, char** argv) {
     one_rank.push_back(single->ns_per_object_step);
     many.push_back(split->ns_per_object_step);
     shares.push_back(split->mpi_share);
+    propagate_shares.push_back(split->propagate_share);
+    scan_shares.push_back(split->scan_share);
     bytes.push_back(split->rss_bytes_per_object);
     mib.push_back(split->rss_mib);
     std::printf("round %d: 1 x %d %.1f ns, %d x %d %.1f ns (MPI %.1f %%)\n", rep + 1, ranks * threads,
@@ -145,6 +150,8 @@ int run(int argc, char** argv) {
       .add("one_rank_ns_per_object_step", single_ns)
       .add("cost_vs_one_rank", single_ns > 0 ? split_ns / single_ns : 0.0)
       .add("mpi_share", median(shares))
+      .add("propagate_share", median(propagate_shares))
+      .add("scan_share", median(scan_shares))
       .add("peak_rss_mib_per_rank", median(mib))
       .add("peak_rss_bytes_per_object", median(bytes))
       .print();

@@ -5,7 +5,8 @@
 #   tests/bench/mpi_scaling.sh [BENCH_BINARY] [RANK_COUNTS...]
 # Defaults: build/bin/kessler-bench, ranks 1 2 4 8 16. OBJECTS, STEPS and REPEATS (environment) default
 # to 1000000, 10 and 3. Prints each benchmark's JSON line, then a table of speed-ups over one rank of one
-# thread (medians of the repeats). Run it on a machine with as many cores as the largest rank count:
+# thread (medians of the repeats), and the shares of a rank's loop in its part of the propagation, of
+# the scan and in MPI calls. Run it on a machine with as many cores as the largest rank count:
 # with fewer, the ranks share cores and the figures say nothing of scaling.
 set -euo pipefail
 bench=${1:-build/bin/kessler-bench}
@@ -27,12 +28,14 @@ python3 - "$results" <<'EOF'
 import json, sys
 rows = sorted((json.loads(line) for line in open(sys.argv[1])), key=lambda d: d["ranks"])
 base = next((d["ns_per_object_step"] for d in rows if d["ranks"] == 1), None)
-print("| ranks | ns / object-step | speed-up over 1 rank | 1 rank of as many threads | MPI share | RSS / object |")
+print("| ranks | ns / object-step | speed-up over 1 rank | 1 rank of as many threads "
+      "| propagation / scan / MPI share | RSS / object |")
 print("|---|---|---|---|---|---|")
 for d in rows:
     ns = d["ns_per_object_step"]
     speed_up = f"{base / ns:.2f}x" if base else ""
     print(f"| {d['ranks']} | {ns:.1f} ({d['ns_per_object_step_min']:.1f}-{d['ns_per_object_step_max']:.1f}) "
-          f"| {speed_up} | {d['one_rank_ns_per_object_step']:.1f} ns | {100 * d['mpi_share']:.1f} % "
+          f"| {speed_up} | {d['one_rank_ns_per_object_step']:.1f} ns "
+          f"| {100 * d['propagate_share']:.0f} / {100 * d['scan_share']:.0f} / {100 * d['mpi_share']:.1f} % "
           f"| {d['peak_rss_bytes_per_object']:.0f} B |")
 EOF
