@@ -228,9 +228,8 @@ class BroadPhaseGrid {
     return (((key_pass_bucket >> grid::kGhostRegionShift) - 1) << region_bits_) |
            (key_pass_bucket & region_mask_);
   }
-  // Thread t's run of partitions [first, last) in a team of `threads`: contiguous, in order (it sorts
-  // them, and walks their slots first).
-  // Within this part's partitions (set_share).
+  // Thread t's run of partitions [first, last) in a team of `threads`, within this part's partitions
+  // (set_share): contiguous, in order (it sorts them, and walks their slots first).
   std::pair<std::size_t, std::size_t> partition_run(std::size_t t, std::size_t threads) const {
     const auto [first, last] = shared_partitions();
     return {first + (last - first) * t / threads, first + (last - first) * (t + 1) / threads};
