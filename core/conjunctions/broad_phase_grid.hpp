@@ -81,6 +81,8 @@ class BroadPhaseGrid {
     share_part_ = part;
     share_parts_ = parts;
   }
+  std::size_t share_part() const { return share_part_; }
+  std::size_t share_parts() const { return share_parts_; }
   // The occupied cells of the partitions this grid sorted in its last build (0 on all but the first of
   // the parts that sort one region); and, from a shared grid's caller, their sum over all parts for that
   // build, which the next build's coarsening follows.

@@ -53,8 +53,6 @@ void ConjunctionDetector::set_share(std::size_t part, std::size_t parts) {
   if (parts == 0 || part >= parts)
     throw std::invalid_argument("ConjunctionDetector::set_share: part " + std::to_string(part) + " of " +
                                 std::to_string(parts));
-  share_part_ = part;
-  share_parts_ = parts;
   grid_.set_share(part, parts);
 }
 
@@ -128,7 +126,7 @@ void ConjunctionDetector::scan(const Population& population, const StepEnds& ste
 
   const int threads = n >= kParallelMinimumObjects ? omp_get_max_threads() : 1;
   const bool use_hulls = use_hulls_;
-  const std::size_t share_part = share_part_, share_parts = share_parts_;
+  const std::size_t share_part = grid_.share_part(), share_parts = grid_.share_parts();
   grid_.prepare(n, threads);
   grid_.set_separation_groups(population.separation_group.size() == n ? population.separation_group.data()
                                                                       : nullptr);

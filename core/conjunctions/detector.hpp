@@ -67,7 +67,6 @@ class ConjunctionDetector {
   // Whether the next scan tests candidates on hulls first: worth it where candidate pairs are many per
   // object (dense populations, long steps), decided from the last scan. Results never depend on it.
   bool use_hulls_ = false;
-  std::size_t share_part_ = 0, share_parts_ = 1;  // set_share
 
   // Narrow phase of one candidate pair (population indices); appends its encounters.
   void examine_pair(const Population& population, const StepEnds& step, std::size_t i, std::size_t j,
