@@ -179,7 +179,14 @@ std::string ingest_json(const IngestOutcome& ingest) {
     << ",\"dropped\":{";
   for (std::size_t i = 0; i < ingest.dropped.size(); ++i)
     s << (i ? "," : "") << "\"" << json_escape(ingest.dropped[i].first) << "\":" << ingest.dropped[i].second;
-  s << "}}";
+  s << "}";
+  if (!ingest.drag.empty()) {
+    s << ",\"drag\":{";
+    for (std::size_t i = 0; i < ingest.drag.size(); ++i)
+      s << (i ? "," : "") << "\"" << json_escape(ingest.drag[i].first) << "\":" << ingest.drag[i].second;
+    s << "}";
+  }
+  s << "}";
   return s.str();
 }
 
@@ -195,6 +202,10 @@ std::string ingest_table(const IngestOutcome& ingest) {
     << " dropped\n";
   for (const auto& [reason, count] : ingest.dropped)
     s << "  " << reason << std::string(width - reason.size() + 2, ' ') << count << "\n";
+  if (!ingest.drag.empty()) {
+    s << "drag (Cd A/m) of the kept objects:\n";
+    for (const auto& [source, count] : ingest.drag) s << "  " << source << ": " << count << "\n";
+  }
   return s.str();
 }
 

@@ -11,9 +11,10 @@
 namespace kessler::server {
 namespace {
 
-// The 2022 catalog's 3LE file holds 23,939 objects (core/catalog/bundled_datasets.hpp); the filters
-// keep fewer, so this bounds the run.
+// The bundled catalogs' 3LE files hold 23,939 (2022) and 17,892 (2019) objects
+// (core/catalog/bundled_datasets.hpp); the filters keep fewer, so these bound the run.
 constexpr std::uint64_t kCatalog2022Objects = 23939;
+constexpr std::uint64_t kCatalog2019Objects = 17892;
 
 std::string number(double v) {
   std::ostringstream s;
@@ -31,7 +32,9 @@ RunEstimate estimate_run(const v1::Scenario& scenario, std::optional<std::uint64
   } else if (p.has_synthetic()) {
     out.objects = p.synthetic().objects();
   } else if (p.has_dataset()) {
-    out.objects = p.dataset() == "leo-19647" ? kLeo19647Objects : kCatalog2022Objects;
+    out.objects = p.dataset() == "leo-19647"      ? kLeo19647Objects
+                  : p.dataset() == "catalog-2019" ? kCatalog2019Objects
+                                                  : kCatalog2022Objects;
   }
   if (p.has_max_objects()) out.objects = std::min<std::uint64_t>(out.objects, p.max_objects());
   out.steps = total_steps_of(to_simulation_config(scenario));

@@ -30,6 +30,11 @@ v1::IngestReport ingest_proto(const IngestReport& report) {
     drop->set_reason(reason);
     drop->set_count(count);
   }
+  for (const auto& [source, count] : outcome.drag) {
+    v1::IngestDrop* drag = out.add_drag();
+    drag->set_reason(source);
+    drag->set_count(count);
+  }
   return out;
 }
 

@@ -179,6 +179,7 @@ IngestOutcome ingest_outcome_of(const v1::IngestReport& report) {
   out.records = report.records();
   out.kept = report.kept();
   for (const auto& drop : report.dropped()) out.dropped.push_back({drop.reason(), drop.count()});
+  for (const auto& drag : report.drag()) out.drag.push_back({drag.reason(), drag.count()});
   return out;
 }
 

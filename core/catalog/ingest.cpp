@@ -339,6 +339,14 @@ std::string IngestReport::text(std::size_t max_listed) const {
     << radius_sampled << " (of which without a class " << radius_sampled_unknown_class << ")\n";
   o << "  drag:             from BSTAR " << drag_from_bstar << ", from Cd and size " << drag_from_size
     << "\n";
+  if (drag_fit) {
+    const BallisticFitCounts& f = *drag_fit;
+    o << "  drag fitted in " << f.atmosphere << ": from the mean-motion derivative "
+      << f.from_mean_motion_derivative << ", from SGP4's BSTAR decay " << f.from_sgp4_bstar
+      << ", no decay signal (rule above) " << f.no_signal << "; clamped low " << f.clamped_low << ", high "
+      << f.clamped_high << "; stale element sets " << f.stale << "; median fitted / BSTAR rule "
+      << format_double(f.median_ratio_to_bstar_mapping, 3) << "\n";
+  }
   o << "  SATCAT:           " << satcat_rows << " rows, " << satcat_matched << " matched; active list "
     << active_list_ids << " ids\n";
   if (!side_input_problems.empty()) o << "  side-input problems: " << side_input_problems.size() << "\n";

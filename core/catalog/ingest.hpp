@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,6 +21,7 @@
 #include "core/catalog/object_properties.hpp"
 #include "core/catalog/parse_problem.hpp"
 #include "core/catalog/tle.hpp"
+#include "core/decay/ballistic_fit.hpp"
 #include "core/population/population.hpp"
 #include "core/sgp4/sgp4.hpp"
 #include "core/time/epoch.hpp"
@@ -104,6 +106,9 @@ struct IngestReport {
   // Where the properties came from.
   std::size_t radius_from_rcs = 0, radius_sampled = 0, radius_sampled_unknown_class = 0;
   std::size_t drag_from_bstar = 0, drag_from_size = 0;
+  // Ballistic coefficients fitted in the run's atmosphere after the ingest (core/decay/), when the
+  // scenario asks for them (the run builder fills this); they replace the two rules above per object.
+  std::optional<BallisticFitCounts> drag_fit;
   std::size_t active_by_status_code = 0, active_by_list = 0;
   // Side inputs.
   std::size_t satcat_rows = 0, satcat_matched = 0, active_list_ids = 0;

@@ -57,6 +57,11 @@ SatcatTable parse_satcat_csv(std::string_view text, const std::string& source) {
   const auto status_col = table.column("OPS_STATUS_CODE");
   auto rcs_col = table.column("RCS");
   if (!rcs_col) rcs_col = table.column("RCSVALUE");
+  auto designator_col = table.column("INTLDES");
+  if (!designator_col) designator_col = table.column("OBJECT_ID");
+  auto decay_col = table.column("DECAY");
+  const auto debut_col = table.column("DEBUT");
+  if (!decay_col) decay_col = table.column("DECAY_DATE");
   auto name_col = table.column("OBJECT_NAME");
   if (!name_col) name_col = table.column("SATNAME");
   out.flavour = status_col ? "celestrak" : "space-track";
@@ -92,6 +97,18 @@ SatcatTable parse_satcat_csv(std::string_view text, const std::string& source) {
     }
     const std::string_view status = field(status_col);
     if (!status.empty()) e.ops_status_code = status.front();
+    e.international_designator = std::string(field(designator_col));
+    // Dates ("2019-04-03"), as both flavours write them; a time part is allowed.
+    auto date = [&](const std::optional<std::size_t>& col, const char* name) -> std::optional<UtcEpoch> {
+      const std::string_view text = field(col);
+      if (text.empty()) return std::nullopt;
+      if (auto when = UtcEpoch::parse_iso8601(std::string(text.substr(0, 10)) + "T00:00:00Z", &why))
+        return when;
+      out.problems.push_back({source, row.line, "date", std::string(name) + ": " + why});
+      return std::nullopt;
+    };
+    e.decay = date(decay_col, "DECAY");
+    e.debut = date(debut_col, "DEBUT");
     out.entries[e.id] = std::move(e);
   }
   return out;

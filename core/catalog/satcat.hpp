@@ -15,6 +15,7 @@
 
 #include "core/catalog/parse_problem.hpp"
 #include "core/population/population.hpp"
+#include "core/time/epoch.hpp"
 
 namespace kessler {
 
@@ -28,8 +29,11 @@ struct SatcatEntry {
   std::string name;
   std::string object_type;  // normalised: PAYLOAD, ROCKET BODY, DEBRIS, UNKNOWN (or the text as given)
   RcsSizeClass size_class = RcsSizeClass::kUnknown;
-  std::optional<double> rcs_m2;         // numeric RCS where the catalog has one (> 0)
-  std::optional<char> ops_status_code;  // CelesTrak operational status code (+ - P B S X D ?)
+  std::optional<double> rcs_m2;          // numeric RCS where the catalog has one (> 0)
+  std::optional<char> ops_status_code;   // CelesTrak operational status code (+ - P B S X D ?)
+  std::string international_designator;  // INTLDES / OBJECT_ID ("1997-051C")
+  std::optional<UtcEpoch> decay;         // DECAY / DECAY_DATE: the day it re-entered (00:00 UTC)
+  std::optional<UtcEpoch> debut;         // DEBUT (Space-Track): the day it entered the catalogue
 };
 
 struct SatcatTable {

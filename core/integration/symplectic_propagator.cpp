@@ -70,7 +70,7 @@ StepPlan plan_step(const ForceModel& model, const Composition& c, double t_start
   }
   for (int k = 0; k < c.kicks; ++k) {
     const auto u = static_cast<std::size_t>(k);
-    plan.f[k] = model.instant(t_start_s + c.kick_time[u] * dt_s);
+    plan.f[k] = model.instant(t_start_s + c.kick_time[u] * dt_s, !plan.drag_at_step_ends);
     plan.f[k].drag_rate_limit_per_s = drag_limit;
     plan.kick_length[k] = c.kick[u] * dt_s;
   }

@@ -15,7 +15,7 @@ ForceModel::ForceModel(const ForceModelSettings& settings, const UtcEpoch& epoch
   }
 }
 
-ForceInstant ForceModel::instant(double t_s) const {
+ForceInstant ForceModel::instant(double t_s, bool density) const {
   constexpr double kMu = constants::kEarthMu_m3_s2;
   constexpr double kR2 = constants::kEarthGravityRadius_m * constants::kEarthGravityRadius_m;
   ForceInstant f;
@@ -46,7 +46,7 @@ ForceInstant ForceModel::instant(double t_s) const {
   f.ln_rho = table.ln_rho();
   f.slope_per_m = table.slope_per_m();
   f.cells = table.cells();
-  if (msis_) {
+  if (msis_ && density) {
     f.msis_grid_owner = msis_->grid_at(t_s);
     f.msis_grid = f.msis_grid_owner.get();
     const double norm = std::sqrt(unit.x() * unit.x() + unit.y() * unit.y());

@@ -150,7 +150,10 @@ class ForceModel {
   const UtcEpoch& epoch() const { return epoch_; }
 
   // The per-instant scalars at t_s seconds since the epoch (a few trig calls and the Sun ephemeris).
-  ForceInstant instant(double t_s) const;
+  // Without `density`, NRLMSISE-00's grid is left out (null): for instants that never read the density,
+  // such as the conservative kicks between drag at the step's ends, whose slots would otherwise cost a
+  // pass over the grid each (the grid is a function of the slot alone, so this changes no bit).
+  ForceInstant instant(double t_s, bool density = true) const;
 
   // Acceleration of one object (TEME [m], [m/s]) at t_s seconds since the epoch [m/s^2].
   Eigen::Vector3d acceleration(const Eigen::Vector3d& r_m, const Eigen::Vector3d& v_m_s, double t_s,

@@ -38,14 +38,129 @@ double sun_right_ascension(const UtcEpoch& when) {
   return std::atan2(sun.y(), sun.x());
 }
 
-// The sub-lattice where the full model is evaluated (build_day): every 3rd altitude node, every latitude
-// node, every 2nd local-time node. Measured one axis at a time, a latitude stride of 2 would add most
-// error (0.64 -> 0.82 % in the storm case), a local-time stride of 2 least (no change above 0.03 %).
-constexpr int kStrideU = 3, kStrideT = 2;
-constexpr int kCoarseU = (kNu - 1) / kStrideU + 1;
-constexpr int kQuarterT = kTimeCells / 4;  // local-time nodes in a quarter of the diamond angle
-static_assert((kNu - 1) % kStrideU == 0 && kQuarterT % kStrideT == 0);
-static_assert(kCoarseU >= 4 && kQuarterT / kStrideT >= 3);
+// The build's sample lattice (build_day). Latitude: Chebyshev-Lobatto points (polynomial interpolation
+// to the nodes; the model's latitude terms are Legendre functions, smooth up to the poles). Local time:
+// equally spaced hour angles (trigonometric interpolation; the model's terms are harmonics of it).
+// Altitude: every 3rd node below 120 km, every node to 167 km (ln n bends most above the 120 km
+// boundary), every 5th above, and the nodes either side of each species' switch altitude (kBreaks).
+constexpr int kLatSamples = 23;
+constexpr int kTimeSamples = 15;  // odd: no unpaired Nyquist term
+constexpr int kBelow120 = 13;     // the last altitude node below 120 km
+constexpr int kDenseTop = 22;     // every node to here (167 km)
+constexpr int kStrideLow = 3, kStrideHigh = 5;
+constexpr int kSpecies = 8;  // He, O, N2, O2, Ar, H, N, anomalous O (MsisOutput's order)
+constexpr double kMass[kSpecies] = {4.0, 16.0, 28.0, 32.0, 40.0, 1.0, 14.0, 16.0};
+constexpr double kAmu_kg = 1.66e-27;  // the model's atomic mass unit
+// Altitudes [km] where the model switches a species' mixing corrections on or off (and, at 120 km, the
+// exospheric temperature it uses): each species' ln n is smooth only between them, so its altitude
+// stencils stay within (0: none).
+constexpr double kBreaks[kSpecies][3] = {{120, 200, 0}, {120, 300, 0},   {120, 160, 0},   {120, 250, 0},
+                                         {120, 240, 0}, {120, 300, 320}, {120, 300, 450}, {120, 0, 0}};
+constexpr int kRow = kCoefficients * kNu;  // one sample column's UT series, [j][iu]
+
+// Weights that depend on the layout alone (computed once).
+struct Plan {
+  std::vector<int> coarse;   // altitude nodes where the model is evaluated
+  std::vector<int> between;  // the others, ascending
+  // Per species and `between` node: 4 positions in `coarse` and their cubic (or lower, padded with
+  // zero weights) Lagrange weights in u.
+  std::vector<int> idx;  // [kSpecies][kNu][4]
+  std::vector<double> w;
+  double lat_deg[kLatSamples] = {}, hour_angle[kTimeSamples] = {};
+  std::vector<double> lat_w;   // [kNq][kLatSamples]
+  std::vector<double> time_w;  // [kTimeCells][kTimeSamples]
+};
+
+double u_of_km(double km) {
+  return std::sqrt(km - kBase_km) / kStepU;
+}
+
+// Lagrange weights at fine node iu for species sp, from the coarse nodes in its segment nearest iu.
+void altitude_stencil(Plan& p, int sp, int iu, int f) {
+  auto segment = [&](int i) {
+    int k = 0;
+    for (double km : kBreaks[sp]) k += km > 0.0 && u_of_km(km) < i;
+    return k;
+  };
+  std::vector<int> same;  // positions in p.coarse
+  for (std::size_t c = 0; c < p.coarse.size(); ++c)
+    if (segment(p.coarse[c]) == segment(iu)) same.push_back(static_cast<int>(c));
+  const int size = static_cast<int>(same.size());
+  const int n = std::min(4, size);
+  int j = 0;
+  while (j + 1 < size && p.coarse[same[j + 1]] <= iu) ++j;
+  const int first = std::clamp(j - 1, 0, size - n);
+  const std::size_t at = (static_cast<std::size_t>(sp) * kNu + f) * 4;
+  for (int k = 0; k < 4; ++k) {
+    p.idx[at + k] = same[first + (k < n ? k : 0)];
+    double w = k < n ? 1.0 : 0.0;
+    for (int l = 0; l < n && k < n; ++l)
+      if (l != k)
+        w *= (iu - p.coarse[same[first + l]]) /
+             static_cast<double>(p.coarse[same[first + k]] - p.coarse[same[first + l]]);
+    p.w[at + k] = w;
+  }
+}
+
+void altitude_plan(Plan& p) {
+  std::vector<char> coarse(kNu, 0);
+  for (int i = 0; i < kNu - 1; i += i < kBelow120 ? kStrideLow : i < kDenseTop ? 1 : kStrideHigh)
+    coarse[i] = 1;
+  coarse[kNu - 1] = 1;
+  for (const auto& breaks : kBreaks)
+    for (double km : breaks)
+      if (km > 0.0) coarse[static_cast<int>(u_of_km(km))] = coarse[static_cast<int>(u_of_km(km)) + 1] = 1;
+  for (int i = 0; i < kNu; ++i) (coarse[i] ? p.coarse : p.between).push_back(i);
+  p.idx.assign(static_cast<std::size_t>(kSpecies) * kNu * 4, 0);
+  p.w.assign(p.idx.size(), 0.0);
+  for (int sp = 0; sp < kSpecies; ++sp)
+    for (std::size_t f = 0; f < p.between.size(); ++f)
+      altitude_stencil(p, sp, p.between[f], static_cast<int>(f));
+}
+
+void latitude_plan(Plan& p) {
+  for (int a = 0; a < kLatSamples; ++a) p.lat_deg[a] = -90.0 * std::cos(kPi * a / (kLatSamples - 1));
+  p.lat_w.assign(static_cast<std::size_t>(kNq) * kLatSamples, 0.0);
+  for (int iq = 0; iq < kNq; ++iq) {
+    const double x = MsisDensityGrid::node_latitude_deg(iq);
+    double* w = &p.lat_w[static_cast<std::size_t>(iq) * kLatSamples];
+    const double* hit = std::find(p.lat_deg, p.lat_deg + kLatSamples, x);
+    if (hit != p.lat_deg + kLatSamples) {
+      w[hit - p.lat_deg] = 1.0;
+      continue;
+    }
+    double sum = 0.0;  // barycentric form
+    for (int a = 0; a < kLatSamples; ++a) {
+      w[a] = (a % 2 ? -1.0 : 1.0) * (a == 0 || a == kLatSamples - 1 ? 0.5 : 1.0) / (x - p.lat_deg[a]);
+      sum += w[a];
+    }
+    for (int a = 0; a < kLatSamples; ++a) w[a] /= sum;
+  }
+}
+
+void time_plan(Plan& p) {
+  for (int b = 0; b < kTimeSamples; ++b) p.hour_angle[b] = 2.0 * kPi * b / kTimeSamples;
+  p.time_w.assign(static_cast<std::size_t>(kTimeCells) * kTimeSamples, 0.0);
+  for (int it = 0; it < kTimeCells; ++it) {
+    const double x = MsisDensityGrid::node_hour_angle_rad(it);
+    for (int b = 0; b < kTimeSamples; ++b) {
+      double w = 1.0;  // the Dirichlet kernel
+      for (int m = 1; m <= kTimeSamples / 2; ++m) w += 2.0 * std::cos(m * (x - p.hour_angle[b]));
+      p.time_w[static_cast<std::size_t>(it) * kTimeSamples + b] = w / kTimeSamples;
+    }
+  }
+}
+
+const Plan& plan() {
+  static const Plan p = [] {
+    Plan q;
+    altitude_plan(q);
+    latitude_plan(q);
+    time_plan(q);
+    return q;
+  }();
+  return p;
+}
 
 struct UtSamples {
   double sun_ra[kUtSamples] = {}, gmst[kUtSamples] = {};
@@ -56,106 +171,100 @@ std::size_t node_index(int iq, int it, int iu) {
          static_cast<std::size_t>(iu);
 }
 
-// Cubic Lagrange weights for fine node i of a piece [lo, hi] whose coarse nodes are lo, lo + stride, ...,
-// hi: the four coarse nodes from `first` (a fine index) around i, shifted inwards at the piece's ends.
-struct Stencil {
-  int first = 0;
-  double w[4] = {};
-};
-
-Stencil cubic_stencil(int i, int lo, int hi, int stride) {
-  const int intervals = (hi - lo) / stride;
-  const int j = (i - lo) / stride;
-  const int first = std::clamp(j - 1, 0, intervals - 3);
-  const double t = static_cast<double>(i - lo) / stride - first;
-  Stencil s;
-  s.first = lo + first * stride;
-  s.w[0] = -(t - 1.0) * (t - 2.0) * (t - 3.0) / 6.0;
-  s.w[1] = t * (t - 2.0) * (t - 3.0) / 2.0;
-  s.w[2] = -t * (t - 1.0) * (t - 3.0) / 2.0;
-  s.w[3] = t * (t - 1.0) * (t - 2.0) / 6.0;
-  return s;
+// Four-point stencil f of species sp applied to values v (by position in plan().coarse).
+double stencil(const Plan& p, int sp, int f, const double* v) {
+  const std::size_t at = (static_cast<std::size_t>(sp) * kNu + f) * 4;
+  const int* i = &p.idx[at];
+  const double* w = &p.w[at];
+  return w[0] * v[i[0]] + w[1] * v[i[1]] + w[2] * v[i[2]] + w[3] * v[i[3]];
 }
 
-// One coarse column (iq, it): the full model at its coarse altitudes for each UT sample, the UT series of
-// each, and the altitudes between filled along u.
-void build_column(int iq, int it, int doy, const DailySolarActivity& solar, const UtSamples& ut,
-                  float* coefficients) {
-  const double hour_angle = MsisDensityGrid::node_hour_angle_rad(it);
-  double lst = 12.0 + hour_angle * 12.0 / kPi;
-  lst = lst < 0.0 ? lst + 24.0 : lst;
+// ln rho at every altitude node of a column: the model at the coarse nodes; between them, above 120 km,
+// each species' ln n interpolated and the mass density summed (the sum of species with different scale
+// heights bends ln rho, most where He gives way to H, which a stencil in ln rho itself smooths over);
+// below 120 km ln rho itself (anomalous oxygen's ln n is not smooth there, and nothing else switches).
+void column_profile(const nrlmsise00::ColumnTerms& terms, const Plan& p, double* ln_rho) {
+  const int nc = static_cast<int>(p.coarse.size()), nb = static_cast<int>(p.between.size());
+  double ln_n[kSpecies][kNu], ln_r[kNu];
+  for (int c = 0; c < nc; ++c) {
+    const MsisOutput o = terms.at(MsisDensityGrid::node_altitude_km(p.coarse[c]));
+    ln_r[c] = std::log(o.rho_drag_kg_m3);
+    ln_rho[p.coarse[c]] = ln_r[c];
+    const double n[kSpecies] = {o.he, o.o, o.n2, o.o2, o.ar, o.h, o.n, o.anomalous_o};
+    for (int sp = 0; sp < kSpecies; ++sp) ln_n[sp][c] = std::log(std::max(n[sp], 1.0e-300));
+  }
+  double rho[kNu] = {}, v[kNu];
+  for (int sp = 0; sp < kSpecies; ++sp) {
+    for (int f = 0; f < nb; ++f) v[f] = stencil(p, sp, f, ln_n[sp]);
+    for (int f = 0; f < nb; ++f) rho[f] += kMass[sp] * deterministic_exp(v[f]);
+  }
+  for (int f = 0; f < nb; ++f)
+    ln_rho[p.between[f]] = p.between[f] <= kBelow120 ? stencil(p, kSpecies - 1, f, ln_r)  // only 120 km
+                                                     : std::log(kAmu_kg * rho[f]);
+}
+
+// Sample column (a, b): the model at each UT sample, then its UT series, to series[j * kNu + iu].
+void sample_column(int a, int b, int doy, const DailySolarActivity& solar, const UtSamples& ut,
+                   double* series) {
+  const Plan& p = plan();
+  const double hour_angle = p.hour_angle[b];
+  const double lst = 12.0 + hour_angle * 12.0 / kPi;
   const nrlmsise00::Switches switches = nrlmsise00::Switches::all_on();
-  double samples[kUtSamples][kCoarseU];
+  double samples[kUtSamples][kNu];
   for (int k = 0; k < kUtSamples; ++k) {
     MsisInput in;
     in.day_of_year = doy;
     in.ut_s = k * kDay_s / kUtSamples;
-    in.latitude_deg = MsisDensityGrid::node_latitude_deg(iq);
-    in.local_solar_time_h = lst;
+    in.latitude_deg = p.lat_deg[a];
+    in.local_solar_time_h = lst >= 24.0 ? lst - 24.0 : lst;
     in.longitude_deg = wrap_degrees((ut.sun_ra[k] + hour_angle - ut.gmst[k]) * 180.0 / kPi);
     in.f107 = solar.f107;
     in.f107_avg = solar.f107_avg;
     in.ap = solar.ap;
     in.altitude_km = 400.0;  // the column's terms do not depend on it
-    const nrlmsise00::ColumnTerms terms(in, switches);
-    for (int c = 0; c < kCoarseU; ++c)
-      samples[k][c] = std::log(terms.at(MsisDensityGrid::node_altitude_km(c * kStrideU)).rho_drag_kg_m3);
+    column_profile(nrlmsise00::ColumnTerms(in, switches), p, samples[k]);
   }
-  double series[kCoarseU][kCoefficients] = {};
-  for (std::size_t c = 0; c < kCoarseU; ++c) {
-    for (int k = 0; k < kUtSamples; ++k) {
-      const double v = samples[k][c];
-      series[c][0] += v / kUtSamples;
-      for (int m = 1; m <= kUtHarmonics; ++m) {
-        const double angle = 2.0 * kPi * m * k / kUtSamples;
-        series[c][2 * static_cast<std::size_t>(m) - 1] += 2.0 * v * std::cos(angle) / kUtSamples;
-        series[c][2 * static_cast<std::size_t>(m)] += 2.0 * v * std::sin(angle) / kUtSamples;
-      }
+  std::fill(series, series + kRow, 0.0);
+  for (int k = 0; k < kUtSamples; ++k) {
+    double w[kCoefficients] = {1.0 / kUtSamples};
+    for (int m = 1; m <= kUtHarmonics; ++m) {
+      const double angle = 2.0 * kPi * m * k / kUtSamples;
+      w[2 * m - 1] = 2.0 * std::cos(angle) / kUtSamples;
+      w[2 * m] = 2.0 * std::sin(angle) / kUtSamples;
+    }
+    for (int j = 0; j < kCoefficients; ++j)
+      for (int iu = 0; iu < kNu; ++iu) series[j * kNu + iu] += w[j] * samples[k][iu];
+  }
+}
+
+// Latitude node iq: the samples' series interpolated to its latitude, then to each local-time node.
+void expand_latitude(int iq, const std::vector<double>& series, float* coefficients) {
+  const Plan& p = plan();
+  std::vector<double> at_lat(static_cast<std::size_t>(kTimeSamples) * kRow, 0.0);
+  const double* wq = &p.lat_w[static_cast<std::size_t>(iq) * kLatSamples];
+  for (int b = 0; b < kTimeSamples; ++b) {
+    double* out = &at_lat[static_cast<std::size_t>(b) * kRow];
+    for (int a = 0; a < kLatSamples; ++a) {
+      const double* in = &series[(static_cast<std::size_t>(a) * kTimeSamples + b) * kRow];
+      for (int i = 0; i < kRow; ++i) out[i] += wq[a] * in[i];
     }
   }
-  for (int iu = 0; iu < kNu; ++iu) {
-    const std::size_t node = node_index(iq, it, iu);
-    if (iu % kStrideU == 0) {
-      for (int j = 0; j < kCoefficients; ++j)
-        coefficients[j * kNodes + node] = static_cast<float>(series[iu / kStrideU][j]);
-      continue;
+  double row[kRow];
+  for (int it = 0; it < kTimeCells; ++it) {
+    const double* wt = &p.time_w[static_cast<std::size_t>(it) * kTimeSamples];
+    std::fill(row, row + kRow, 0.0);
+    for (int b = 0; b < kTimeSamples; ++b) {
+      const double* in = &at_lat[static_cast<std::size_t>(b) * kRow];
+      for (int i = 0; i < kRow; ++i) row[i] += wt[b] * in[i];
     }
-    const Stencil s = cubic_stencil(iu, 0, kNu - 1, kStrideU);
     for (int j = 0; j < kCoefficients; ++j) {
-      double v = 0.0;
-      for (int k = 0; k < 4; ++k) v += s.w[k] * series[s.first / kStrideU + k][j];
-      coefficients[j * kNodes + node] = static_cast<float>(v);
-    }
-  }
-}
-
-// Fine node `to` = sum of w[k] times the nodes from[k], for every coefficient.
-void combine(float* coefficients, std::size_t to, const std::size_t (&from)[4], const double (&w)[4]) {
-  for (int j = 0; j < kCoefficients; ++j) {
-    const float* c = coefficients + static_cast<std::size_t>(j) * kNodes;
-    const double v = w[0] * c[from[0]] + w[1] * c[from[1]] + w[2] * c[from[2]] + w[3] * c[from[3]];
-    coefficients[static_cast<std::size_t>(j) * kNodes + to] = static_cast<float>(v);
-  }
-}
-
-// The local times between coarse ones; then the repeated node at local noon.
-void fill_local_times(float* coefficients) {
-#pragma omp parallel for schedule(static)
-  for (int iq = 0; iq < kNq; ++iq) {
-    for (int it = 0; it < kTimeCells; ++it) {
-      if (it % kStrideT == 0) continue;
-      const int lo = it / kQuarterT * kQuarterT;
-      const Stencil s = cubic_stencil(it, lo, lo + kQuarterT, kStrideT);
+      float* to = coefficients + j * kNodes + node_index(iq, it, 0);
+      float* noon = coefficients + j * kNodes + node_index(iq, kTimeCells, 0);  // repeats it = 0
       for (int iu = 0; iu < kNu; ++iu) {
-        std::size_t from[4];
-        for (int k = 0; k < 4; ++k) from[k] = node_index(iq, (s.first + k * kStrideT) % kTimeCells, iu);
-        combine(coefficients, node_index(iq, it, iu), from, s.w);
+        to[iu] = static_cast<float>(row[j * kNu + iu]);
+        if (it == 0) noon[iu] = to[iu];
       }
     }
-    for (int iu = 0; iu < kNu; ++iu)
-      for (int j = 0; j < kCoefficients; ++j)
-        coefficients[j * kNodes + node_index(iq, kTimeCells, iu)] =
-            coefficients[j * kNodes + node_index(iq, 0, iu)];
   }
 }
 
@@ -229,15 +338,14 @@ MsisInput MsisDensityGrid::model_input(double t_s, const Eigen::Vector3d& r) con
   return in;
 }
 
-// The full model is evaluated on a sub-lattice (kStrideU, kStrideT) and the nodes between are filled by
-// cubic Lagrange interpolation, along u within each column, then along the local-time pseudo-angle p.
-// Local-time stencils stay inside one quarter of the diamond angle (noon to 18 h, ...), where its map to
-// the hour angle is smooth. ln rho is smooth along both, so the filled nodes add little to the force
-// model's own (trilinear) error; the test bounds the sum.
+// The full model on the sample lattice (plan()): per sample column and UT sample one ColumnTerms and
+// the coarse altitudes, filled along altitude (column_profile), reduced to the UT series, then
+// interpolated to the nodes along latitude and local time (expand_latitude). Each output value is the
+// same sum in the same order whichever thread computes it.
 MsisDensityGrid::Day MsisDensityGrid::build_day(std::int64_t day) const {
   Day out;
   out.day = day;
-  out.coefficients.assign(kNodes * kCoefficients, 0.0f);
+  out.coefficients.resize(kNodes * kCoefficients);  // every element written below
   const DailySolarActivity solar =
       space_weather_ ? space_weather_->on_day(day, settings_)
                      : DailySolarActivity{settings_.f107_sfu, settings_.f107_sfu, settings_.ap};
@@ -249,12 +357,16 @@ MsisDensityGrid::Day MsisDensityGrid::build_day(std::int64_t day) const {
     ut.sun_ra[k] = sun_right_ascension(when);
     ut.gmst[k] = when.gmst_rad();
   }
+  plan();  // built once, before the threads
+  constexpr int kColumns = kLatSamples * kTimeSamples;
+  std::vector<double> series(static_cast<std::size_t>(kColumns) * kRow);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int column = 0; column < kColumns; ++column)
+    sample_column(column / kTimeSamples, column % kTimeSamples, doy, solar, ut,
+                  &series[static_cast<std::size_t>(column) * kRow]);
   float* coefficients = out.coefficients.data();
-  constexpr int kCoarseT = kTimeCells / kStrideT;
-#pragma omp parallel for schedule(dynamic, 2)
-  for (int column = 0; column < kNq * kCoarseT; ++column)
-    build_column(column / kCoarseT, column % kCoarseT * kStrideT, doy, solar, ut, coefficients);
-  fill_local_times(coefficients);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int iq = 0; iq < kNq; ++iq) expand_latitude(iq, series, coefficients);
   return out;
 }
 

@@ -20,9 +20,12 @@
 // and local time). The grid a force evaluation reads is the series at the middle of its 120 s slot of
 // UTC. The model's own day-to-day jumps (daily F10.7, Ap, day of year) stay at midnight UTC.
 //
-// Building a day: the full model on a sub-lattice (every 3rd altitude, every 2nd local time: 7 x 2,600
-// columns' expansions, nrlmsise00::ColumnTerms, and 764,000 profiles), the nodes between filled by
-// cubic interpolation (msis_grid.cpp), shared out between OpenMP threads; a slot, one pass over the nodes.
+// Building a day: the full model on a sample lattice, not at the nodes: 23 latitudes (Chebyshev-Lobatto,
+// polynomial interpolation to the nodes), 15 hour angles (equally spaced, trigonometric interpolation),
+// 7 UT samples (7 x 345 columns' expansions, nrlmsise00::ColumnTerms) and 42 altitudes a column (101,000
+// profiles); between those altitudes each species' ln n is interpolated and the densities summed, never
+// across the altitudes where the model switches a species' corrections (msis_grid.cpp). Shared out
+// between OpenMP threads; a slot, one pass over the nodes.
 //
 // Measured interpolation error against the full model: tests/atmosphere/msis_grid_test.cpp and
 // core/physics/README.md.

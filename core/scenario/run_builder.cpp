@@ -11,6 +11,8 @@
 #include "core/catalog/state_table.hpp"
 #include "core/catalog/synthetic.hpp"
 #include "core/conjunctions/detector.hpp"
+#include "core/decay/ballistic_fit.hpp"
+#include "core/decay/run_atmosphere.hpp"
 #include "core/integration/symplectic_propagator.hpp"
 #include "core/physics/space_weather.hpp"
 #include "core/scenario/breakup_validation.hpp"
@@ -92,6 +94,31 @@ std::optional<FieldError> take(IngestResult result, const std::string& path, Loa
   return std::nullopt;
 }
 
+// Catalog objects' Cd A/m fitted in the run's own atmosphere to their observed decay (core/decay/), unless
+// the scenario keeps the BSTAR rule, has no drag or propagates by SGP4 (whose drag is BSTAR itself).
+void fit_drag(const v1::Scenario& scenario, const SimulationConfig& config,
+              const BallisticFitSettings& settings, LoadedPopulation& out) {
+  if (scenario.population().ballistic_coefficients() == v1::BALLISTIC_COEFFICIENTS_BSTAR) return;
+  if (scenario.propagator() == v1::PROPAGATOR_SGP4) return;
+  if (!config.force_model.drag || out.elements.size() != out.population.size()) return;
+  BallisticFitCounts counts =
+      fit_ballistic_coefficients(out.population, out.elements, config.start_epoch,
+                                 run_atmosphere_density(config.force_model, config.start_epoch), settings);
+  counts.atmosphere = run_atmosphere_name(config.force_model);
+  if (out.report) out.report->drag_fit = counts;
+}
+
+// A bundled or inline catalog, ingested and its drag fitted.
+std::optional<FieldError> ingest_and_fit(const CatalogInput& input, const std::string& path,
+                                         const v1::Scenario& scenario, const SimulationConfig& config,
+                                         const BuildOptions& options, LoadedPopulation& out) {
+  if (auto e =
+          take(ingest_catalog(input, catalog_rules_of(scenario), config.start_epoch, config.seed), path, out))
+    return e;
+  fit_drag(scenario, config, options.ballistic_fit, out);
+  return std::nullopt;
+}
+
 std::optional<FieldError> load_population(const v1::Scenario& scenario, const SimulationConfig& config,
                                           const BuildOptions& options, LoadedPopulation& out) {
   const v1::PopulationSource& source = scenario.population();
@@ -104,8 +131,7 @@ std::optional<FieldError> load_population(const v1::Scenario& scenario, const Si
       std::string why;
       auto input = load_bundled_catalog(source.dataset(), options.datasets_dir, &why);
       if (!input) return FieldError{"population.dataset", why};
-      return take(ingest_catalog(*input, catalog_rules_of(scenario), config.start_epoch, config.seed),
-                  "population.dataset", out);
+      return ingest_and_fit(*input, "population.dataset", scenario, config, options, out);
     }
     case v1::PopulationSource::kCatalog: {
       CatalogInput input;
@@ -116,8 +142,7 @@ std::optional<FieldError> load_population(const v1::Scenario& scenario, const Si
       input.satcat_source = "population.catalog.satcat_csv";
       input.active_list = source.catalog().active_list();
       input.active_list_source = "population.catalog.active_list";
-      return take(ingest_catalog(input, catalog_rules_of(scenario), config.start_epoch, config.seed),
-                  "population.catalog", out);
+      return ingest_and_fit(input, "population.catalog", scenario, config, options, out);
     }
     case v1::PopulationSource::kSynthetic: {
       const v1::SyntheticPopulation& s = source.synthetic();
@@ -147,7 +172,7 @@ std::optional<FieldError> make_parts(const v1::Scenario& scenario, const Simulat
                                      const LoadedPopulation* loaded, SimulationParts& parts) {
   if (scenario.propagator() == v1::PROPAGATOR_SGP4) {
     if (!loaded || loaded->elements.empty())
-      return FieldError{"propagator", "sgp4 needs element sets: a catalog or the catalog-2022 dataset"};
+      return FieldError{"propagator", "sgp4 needs element sets: a catalog or a bundled catalog dataset"};
     try {
       parts.propagator =
           std::make_unique<Sgp4Propagator>(loaded->element_ids, loaded->elements, config.start_epoch);
@@ -271,6 +296,13 @@ IngestOutcome ingest_outcome(const IngestReport& report) {
   IngestOutcome out;
   out.records = report.records;
   out.kept = report.kept;
+  if (report.drag_fit) {
+    out.drag = {{"fitted from the mean-motion derivative", report.drag_fit->from_mean_motion_derivative},
+                {"fitted from SGP4's BSTAR decay", report.drag_fit->from_sgp4_bstar},
+                {"no decay signal: ingest rule", report.drag_fit->no_signal}};
+  } else {
+    out.drag = {{"BSTAR rule", report.drag_from_bstar}, {"Cd and size", report.drag_from_size}};
+  }
   for (const auto& [reason, count] : report.rejected_by_reason)
     out.dropped.push_back({"rejected: " + reason, count});
   // propagation_failures also lists objects whose state came out invalid ("invalid state", counted

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/catalog/ingest.hpp"
+#include "core/decay/ballistic_fit.hpp"
 #include "core/simulation/simulation.hpp"
 #include "kessler/v1/scenario.pb.h"
 
@@ -47,6 +48,8 @@ struct BuildOptions {
   std::string traffic_dir = KESSLER_TRAFFIC_DIR;
   // False: no checkpoints are taken (a host with nowhere to keep them saves the time).
   bool checkpoints = true;
+  // How catalog objects' ballistic coefficients are fitted (population.ballistic_coefficients: fitted).
+  BallisticFitSettings ballistic_fit;
   // Applied to the core configuration after the scenario's, for fresh and resumed runs alike (hosts
   // and tests: settings no scenario field reaches). Empty: none.
   std::function<void(SimulationConfig&)> adjust_config;
@@ -72,6 +75,8 @@ struct IngestOutcome {
   // Reason and count, in the report's order: bad records as "rejected: <reason>", the filters' reasons
   // ("docked", "excluded name", ...), and SGP4 failures by their error as "SGP4 failed: <error>".
   std::vector<std::pair<std::string, std::uint64_t>> dropped;
+  // How the kept objects' Cd A/m was set: source and count (each kept object once).
+  std::vector<std::pair<std::string, std::uint64_t>> drag;
 };
 IngestOutcome ingest_outcome(const IngestReport& report);
 

@@ -41,7 +41,7 @@ inline constexpr double kDisposalSuccessProbability = 0.9;
 inline constexpr double kDisposalTargetLifetimeYears = 25.0;
 inline constexpr unsigned long long kTrafficMaxPlannedObjects = 10'000'000;  // in the inline plan
 
-inline constexpr std::array<std::string_view, 2> kDatasets = {"catalog-2022", "leo-19647"};
+inline constexpr std::array<std::string_view, 3> kDatasets = {"catalog-2022", "catalog-2019", "leo-19647"};
 inline constexpr std::array<std::string_view, 4> kObjectTypes = {"PAYLOAD", "ROCKET BODY", "DEBRIS",
                                                                  "UNKNOWN"};
 

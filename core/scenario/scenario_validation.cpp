@@ -171,8 +171,8 @@ std::optional<FieldError> validate_population(const v1::Scenario& scenario) {
       bool known = false;
       for (auto name : d::kDatasets) known |= p.dataset() == name;
       if (!known)
-        return FieldError{"population.dataset",
-                          "unknown dataset '" + p.dataset() + "' (available: catalog-2022, leo-19647)"};
+        return FieldError{"population.dataset", "unknown dataset '" + p.dataset() +
+                                                    "' (available: catalog-2022, catalog-2019, leo-19647)"};
       break;
     }
     case v1::PopulationSource::kCatalog:
@@ -210,9 +210,13 @@ std::optional<FieldError> validate_population(const v1::Scenario& scenario) {
   if (p.has_max_objects() && p.max_objects() == 0)
     return FieldError{"population.max_objects", "must be at least 1 (leave it out for all objects)"};
   if (auto e = validate_rules(p.rules())) return e;
-  if (scenario.propagator() == v1::PROPAGATOR_SGP4 && !p.has_catalog() &&
-      !(p.has_dataset() && p.dataset() == "catalog-2022"))
-    return FieldError{"propagator", "sgp4 needs element sets: a catalog or the catalog-2022 dataset"};
+  const bool element_sets = p.has_catalog() || (p.has_dataset() && p.dataset() != "leo-19647");
+  if (scenario.propagator() == v1::PROPAGATOR_SGP4 && !element_sets)
+    return FieldError{"propagator", "sgp4 needs element sets: a catalog or a bundled catalog dataset"};
+  if (p.ballistic_coefficients() == v1::BALLISTIC_COEFFICIENTS_FITTED && !element_sets)
+    return FieldError{
+        "population.ballistic_coefficients",
+        "fitted needs element sets (their observed decay): a catalog or a bundled catalog dataset"};
   return std::nullopt;
 }
 

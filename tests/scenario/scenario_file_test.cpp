@@ -122,7 +122,7 @@ seed: 42
     {"screening", "population: {dataset: leo-19647}\nconjunctions: {screening_distance_km: -1}",
      "conjunctions.screening_distance_km: must be positive, got -1"},
     {"unknown dataset", "population: {dataset: leo-2000}",
-     "population.dataset: unknown dataset 'leo-2000' (available: catalog-2022, leo-19647)"},
+     "population.dataset: unknown dataset 'leo-2000' (available: catalog-2022, catalog-2019, leo-19647)"},
     {"empty catalog", "population: {catalog: {format: tle, text: \"\"}}",
      "population.catalog.text: is empty"},
     {"no objects", "population: {synthetic: {objects: 0}}",
@@ -135,7 +135,12 @@ seed: 42
      "population.rules.object_types[1]: unknown object type 'ROCKET' (expected one of: PAYLOAD, ROCKET BODY, "
      "DEBRIS, UNKNOWN)"},
     {"sgp4 without elements", "propagator: sgp4\npopulation: {synthetic: {objects: 10}}",
-     "propagator: sgp4 needs element sets: a catalog or the catalog-2022 dataset"},
+     "propagator: sgp4 needs element sets: a catalog or a bundled catalog dataset"},
+    {"fitted drag without elements", "population: {dataset: leo-19647, ballistic_coefficients: fitted}",
+     "population.ballistic_coefficients: fitted needs element sets (their observed decay): a catalog or a "
+     "bundled catalog dataset"},
+    {"unknown drag rule", "population: {dataset: catalog-2022, ballistic_coefficients: measured}",
+     "population.ballistic_coefficients: unknown value 'measured' (expected one of: fitted, bstar)"},
     {"burn-up", "burn_up_altitude_km: -5\npopulation: {dataset: leo-19647}",
      "burn_up_altitude_km: must be in [0, 2000), got -5"},
     {"progress", "progress_every_steps: 0\npopulation: {dataset: leo-19647}",
