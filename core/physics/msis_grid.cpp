@@ -227,8 +227,8 @@ void sample_column(int a, int b, int doy, const DailySolarActivity& solar, const
   std::fill(series, series + kRow, 0.0);
   for (int k = 0; k < kUtSamples; ++k) {
     double w[kCoefficients] = {1.0 / kUtSamples};
-    for (int m = 1; m <= kUtHarmonics; ++m) {
-      const double angle = 2.0 * kPi * m * k / kUtSamples;
+    for (std::size_t m = 1; m <= kUtHarmonics; ++m) {
+      const double angle = 2.0 * kPi * static_cast<double>(m) * k / kUtSamples;
       w[2 * m - 1] = 2.0 * std::cos(angle) / kUtSamples;
       w[2 * m] = 2.0 * std::sin(angle) / kUtSamples;
     }
