@@ -26,8 +26,4 @@ using DensityAt = std::function<double(const UtcEpoch& when, const Eigen::Vector
 std::optional<double> orbit_averaged_decay_per_unit_ballistic(const Sgp4Record& record, const UtcEpoch& epoch,
                                                               const DensityAt& density);
 
-// Samples per revolution: enough for the diurnal bulge on near-circular orbits, more on eccentric ones,
-// whose drag gathers near perigee.
-int orbit_average_samples(double eccentricity);
-
 }  // namespace kessler
