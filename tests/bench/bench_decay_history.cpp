@@ -224,6 +224,15 @@ int bench_decay_history(int argc, char** argv) {
     std::fprintf(stderr, "kessler-bench decay-history: --threads must be positive\n");
     return 2;
   }
+  const std::string ballistic = args.get("--ballistic", "fitted"), signal = args.get("--signal", "ndot");
+  const std::string clouds = args.get("--clouds", "on");
+  if ((ballistic != "fitted" && ballistic != "bstar") || (signal != "ndot" && signal != "bstar") ||
+      (clouds != "on" && clouds != "off")) {
+    std::fprintf(
+        stderr,
+        "kessler-bench decay-history: --ballistic fitted|bstar, --signal ndot|bstar, --clouds on|off\n");
+    return 2;
+  }
   omp_set_num_threads(threads);
   std::string why;
   const std::string satcat_path =
