@@ -5,20 +5,30 @@ Usage: clang_tidy_cached.py BUILD_DIR FILE...   (run from the source root; deplo
 
 A file's key is the hash of: the .clang-tidy file, clang-tidy's version, the file's path in the tree, its
 compile flags and its text as clang-14 preprocesses it (every header it includes, without line markers),
-with the tree's location replaced in both, so clones share keys. A file that passes leaves an empty stamp named by
-its key in the cache (KESSLER_LINT_CACHE, default ~/.cache/kessler-lint), so a later run skips it until
-something it reads changes. No well-kept cache for clang-tidy is packaged for Debian 12, hence this.
+with the tree's location replaced in both, so clones share keys. -march=native is read as -march=x86-64
+(by the key and by clang-tidy alike), so keys do not depend on the machine's CPU either.
+
+Two places remember passes: the local cache (KESSLER_LINT_CACHE, default ~/.cache/kessler-lint, an empty
+stamp per key) and the tree's own list, deploy/lint-passed.txt (key and path per line), which every clean
+run brings up to date and which is committed with the change. A new clone (CI) thus checks
+only the files whose preprocessed text differs from the last clean run, plus SPOT_CHECKS files taken at
+random from those the list vouches for, so a stale or hand-edited list is caught.
+No well-kept cache for clang-tidy is packaged for Debian 12, hence this.
 Exit status 1 when any file has a warning (the config makes warnings errors).
 """
 import hashlib
 import json
 import os
+import random
 import shlex
 import subprocess
 import sys
 from concurrent.futures import ThreadPoolExecutor
 
 PREPROCESSOR = "clang++-14"
+PASS_LIST = "deploy/lint-passed.txt"
+SPOT_CHECKS = 3
+PORTABLE_ARCH = "-march=x86-64"
 
 
 def common_hash():
@@ -42,7 +52,7 @@ def flags_of(entry, root):
             continue
         if arg == "-c" or os.path.realpath(os.path.join(entry["directory"], arg)) == os.path.realpath(entry["file"]):
             continue
-        kept.append(arg)
+        kept.append(PORTABLE_ARCH if arg == "-march=native" else arg)
     return kept, [arg.replace(root, "<root>") for arg in kept]
 
 
@@ -59,6 +69,28 @@ def key_of(path, entry, root, common):
     return h.hexdigest()
 
 
+def read_pass_list():
+    """key -> path of the files the tree's list says passed."""
+    if not os.path.exists(PASS_LIST):
+        return {}
+    with open(PASS_LIST) as listed:
+        rows = [line.split() for line in listed if line.strip() and not line.startswith("#")]
+    return {row[0]: row[1] for row in rows if len(row) == 2}
+
+
+def write_pass_list(keys):
+    with open(PASS_LIST, "w") as out:
+        out.write("# clang-tidy passes: key (deploy/clang_tidy_cached.py) and file; rewritten by deploy/lint.sh\n")
+        for path, key in sorted(keys.items()):
+            out.write(f"{key} {path}\n")
+
+
+def run_clang_tidy(build, path):
+    run = subprocess.run(["clang-tidy", "-p", build, "--quiet", f"--extra-arg={PORTABLE_ARCH}", path],
+                         capture_output=True, text=True)
+    return run.returncode == 0, run.stdout + run.stderr
+
+
 def main():
     build, files = sys.argv[1], sys.argv[2:]
     root = os.path.realpath(".")
@@ -67,31 +99,47 @@ def main():
     cache = os.environ.get("KESSLER_LINT_CACHE", os.path.expanduser("~/.cache/kessler-lint"))
     os.makedirs(cache, exist_ok=True)
     common = common_hash()
+    listed = read_pass_list()
+    keys = {}
 
     def lint(path):
         entry = entries.get(os.path.realpath(path))
         if entry is None:
-            return path, False, f"{path}: not in {build}/compile_commands.json\n", False
+            return path, False, f"{path}: not in {build}/compile_commands.json\n", None
         key = key_of(path, entry, root, common)
+        keys[path] = key
         stamp = os.path.join(cache, key) if key else None
         if stamp and os.path.exists(stamp):
-            return path, True, "", True
-        run = subprocess.run(["clang-tidy", "-p", build, "--quiet", path], capture_output=True, text=True)
-        if run.returncode == 0 and stamp:
+            return path, True, "", "stamp"
+        if key and listed.get(key) == path:
+            return path, True, "", "list"
+        ok, output = run_clang_tidy(build, path)
+        if ok and stamp:
             open(stamp, "w").close()
-        return path, run.returncode == 0, run.stdout + run.stderr, False
+        return path, ok, output, None
 
     with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
         results = list(pool.map(lint, files))
+        vouched = sorted(path for path, _, _, source in results if source == "list")
+        spot = random.sample(vouched, min(SPOT_CHECKS, len(vouched)))
+        spot_results = list(pool.map(lambda path: (path, *run_clang_tidy(build, path)), spot))
     failed = [(path, output) for path, ok, output, _ in results if not ok]
-    cached = sum(1 for *_, from_cache in results if from_cache)
+    failed += [(path, f"{path}: listed in {PASS_LIST} as clean, but:\n{output}") for path, ok, output in spot_results
+               if not ok]
+    cached = sum(1 for *_, source in results if source)
     for path, output in failed:
         lines = [line for line in output.splitlines() if "warning:" in line or "error:" in line]
         sys.stderr.write("\n".join(lines or output.splitlines()[-20:]) + "\n")
     if failed:
         sys.stderr.write(f"lint: clang-tidy found problems in {len(failed)} of {len(files)} files\n")
         return 1
-    print(f"lint: clang-tidy clean on {len(files)} files ({cached} unchanged since a clean run, from the cache)")
+    if all(keys.get(path) for path in files):
+        # Files outside this run keep their entries while they exist; a deleted file's entry goes.
+        merged = {path: key for key, path in listed.items() if path not in keys and os.path.exists(path)}
+        merged.update(keys)
+        write_pass_list(merged)
+    print(f"lint: clang-tidy clean on {len(files)} files ({cached} unchanged since a clean run, from the caches; "
+          f"{len(spot)} of those checked again at random)")
     return 0
 
 

@@ -16,11 +16,6 @@ struct RunsOptions {
   std::uint64_t limit = 50;
 };
 
-std::string unix_time_text(double unix_s) {
-  if (unix_s <= 0) return "-";
-  return UtcEpoch::from_calendar(1970, 1, 1, 0, 0, 0.0).plus_seconds(unix_s).to_iso8601(0);
-}
-
 void print_json(const std::vector<v1::Run>& runs) {
   std::cout << "[";
   for (std::size_t i = 0; i < runs.size(); ++i) {

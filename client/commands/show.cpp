@@ -22,11 +22,6 @@ struct ShowOptions {
   double bin_s = 0;  // 0: the run's length / 24
 };
 
-std::string unix_time_text(double unix_s) {
-  if (unix_s <= 0) return "-";
-  return UtcEpoch::from_calendar(1970, 1, 1, 0, 0, 0.0).plus_seconds(unix_s).to_iso8601(0);
-}
-
 void print_header(const v1::Run& run) {
   std::cout << "run " << run.id() << (run.name().empty() ? "" : " (" + run.name() + ")") << ": "
             << v1::run_state_name(run.state()) << "\n";

@@ -10,6 +10,11 @@
 
 namespace kessler::cli {
 
+std::string unix_time_text(double unix_s) {
+  if (unix_s <= 0) return "-";
+  return UtcEpoch::from_calendar(1970, 1, 1, 0, 0, 0.0).plus_seconds(unix_s).to_iso8601(0);
+}
+
 std::string json_string(const std::string& s) {
   std::string out = "\"";
   for (unsigned char c : s) {

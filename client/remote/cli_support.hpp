@@ -17,6 +17,8 @@ namespace kessler::cli {
 
 // Minimal JSON building.
 std::string json_string(const std::string& s);
+// A daemon timestamp (seconds since 1970, UTC) as ISO 8601 to the second; "-" for none (0).
+std::string unix_time_text(double unix_s);
 std::string json_number(double v);
 class JsonObject {
  public:

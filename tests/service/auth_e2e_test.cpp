@@ -20,7 +20,6 @@ namespace {
 using test::cli;
 using test::Daemon;
 
-const std::string kTiny = test::source_path("tests/service/scenarios/tiny.yaml");
 std::string tls_file(const std::string& name) {
   return test::source_path("tests/data/tls/" + name);
 }
@@ -59,7 +58,7 @@ std::unique_ptr<grpc::ClientContext> context_with(const std::string& token) {
 
 v1::SubmitRunRequest tiny_request(const std::string& request_id = "") {
   v1::SubmitRunRequest request;
-  request.set_scenario_text(test::read_text(kTiny));
+  request.set_scenario_text(test::read_text(test::kTinyScenario));
   request.set_request_id(request_id);
   return request;
 }
@@ -199,7 +198,7 @@ TEST_F(TlsTokens, TheRightTokenWorksThroughTheCli) {
   EXPECT_EQ(refused.exit_code, 1);
   EXPECT_NE(refused.err.find("UNAUTHENTICATED"), std::string::npos) << refused.err;
   auto submitted =
-      cli(dir, "submit " + kTiny + server + " --token " + token["alice"] + " --watch --output json");
+      cli(dir, "submit " + test::kTinyScenario + server + " --token " + token["alice"] + " --watch --output json");
   ASSERT_EQ(submitted.exit_code, 0) << submitted.err;
   EXPECT_NE(submitted.last_line().find("\"state\":\"succeeded\""), std::string::npos) << submitted.out;
   auto listed = cli(dir, "runs" + server, "KESSLER_TOKEN=" + token["viewer"]);

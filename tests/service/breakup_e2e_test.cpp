@@ -20,7 +20,7 @@ namespace {
 
 using test::cli;
 
-const char* const kScenario = R"yaml(
+const char* const kBreakupScenario = R"yaml(
 name: breakup-e2e
 duration_days: 0.005
 dt_s: 10
@@ -48,7 +48,7 @@ std::vector<std::string> lines_of(const std::string& text) {
 // One daemon and one run with the explosion, shared by the tests below (the run takes a second).
 class BreakupEndToEnd : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { shared_ = new Shared(test::parsed_scenario(kScenario)); }
+  static void SetUpTestSuite() { shared_ = new Shared(test::parsed_scenario(kBreakupScenario)); }
   static void TearDownTestSuite() {
     delete shared_;
     shared_ = nullptr;

@@ -28,7 +28,7 @@ namespace {
 
 using test::cli;
 
-const char* const kScenario = R"yaml(
+const char* const kEnsembleScenario = R"yaml(
 name: ensemble-e2e
 duration_days: 0.004
 dt_s: 10
@@ -62,7 +62,7 @@ class EnsembleEndToEnd : public ::testing::Test {
             options.runs_at_once = 2;
             options.threads_per_run = 1;
           }) {
-      if (parse_scenario(kScenario, scenario)) throw std::runtime_error("scenario");
+      if (parse_scenario(kEnsembleScenario, scenario)) throw std::runtime_error("scenario");
       v1::SubmitEnsembleRequest submit;
       *submit.mutable_scenario() = scenario;
       grpc::ClientContext context;

@@ -16,7 +16,7 @@ namespace {
 
 using server::ServiceError;
 
-struct Finding {
+struct HostileFinding {
   const char* what;
   std::string scenario_text;  // YAML, or empty for `message`
   v1::Scenario message;
@@ -32,8 +32,8 @@ v1::Scenario base_message() {
   return s;
 }
 
-std::vector<Finding> findings() {
-  std::vector<Finding> out;
+std::vector<HostileFinding> hostile_findings() {
+  std::vector<HostileFinding> out;
   auto text = [&](const char* what, std::string yaml, const char* path, const char* part) {
     out.push_back({what, std::move(yaml), {}, path, part});
   };
@@ -96,7 +96,7 @@ class HostileInput : public ::testing::Test {
 };
 
 TEST_F(HostileInput, EveryFindingIsRefusedAtSubmissionNamingTheField) {
-  for (const Finding& f : findings()) {
+  for (const HostileFinding& f : hostile_findings()) {
     SCOPED_TRACE(f.what);
     v1::SubmitRunRequest request;
     if (f.scenario_text.empty())

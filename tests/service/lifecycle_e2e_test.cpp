@@ -21,7 +21,7 @@ using test::cli;
 
 // 12 satellites launched 00:05..00:15 in two planes; 4 at 00:01 whose lifetime (0.00002 years, 631 s)
 // ends at about 00:12, then disposal (half succeed).
-const char* const kScenario = R"yaml(
+const char* const kLifecycleScenario = R"yaml(
 name: lifecycle-e2e
 start_epoch: "2022-01-01T00:00:00Z"
 duration_days: 0.02
@@ -49,7 +49,7 @@ class LifecycleEndToEnd : public ::testing::Test {
 
   struct Shared : test::InProcessService {
     Shared() {
-      if (parse_scenario(kScenario, scenario)) throw std::runtime_error("scenario");
+      if (parse_scenario(kLifecycleScenario, scenario)) throw std::runtime_error("scenario");
       run = submit(scenario);
       events = watch(run.id(), 0, false, &final_state);
     }

@@ -19,11 +19,10 @@ namespace {
 
 using test::Daemon;
 
-const std::string kTiny = test::source_path("tests/service/scenarios/tiny.yaml");
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-struct Finding {
+struct LimitFinding {
   const char* name;
   const char* field;  // expected at the start of the message and in kessler-field-path
   std::function<grpc::Status(v1::KesslerService::Stub&, grpc::ClientContext&, std::int64_t run_id)> call;
@@ -50,8 +49,8 @@ grpc::Status list_runs(v1::KesslerService::Stub& s, grpc::ClientContext& c, cons
   return s.ListRuns(&c, r, &out);
 }
 
-std::vector<Finding> findings() {
-  std::vector<Finding> rows;
+std::vector<LimitFinding> limit_findings() {
+  std::vector<LimitFinding> rows;
   // GetRunStats: an 8 KB request asking for a billion cells, and numbers that are not numbers.
   rows.push_back({"stats: tiny time bin", "time_bin_s", [](auto& s, auto& c, std::int64_t id) {
                     auto r = for_run<v1::GetRunStatsRequest>(id);
@@ -157,7 +156,7 @@ std::vector<Finding> findings() {
                   }});
   rows.push_back({"submit: request id of 200 characters", "request_id", [](auto& s, auto& c, std::int64_t) {
                     v1::SubmitRunRequest r;
-                    r.set_scenario_text(test::read_text(kTiny));
+                    r.set_scenario_text(test::read_text(test::kTinyScenario));
                     r.set_request_id(std::string(200, 'x'));
                     v1::Run out;
                     return s.SubmitRun(&c, r, &out);
@@ -183,7 +182,7 @@ class RequestFindings : public ::testing::Test {
                grpc::CreateChannel(daemon->address(), grpc::InsecureChannelCredentials()))
                .release();
     v1::SubmitRunRequest request;
-    request.set_scenario_text(test::read_text(kTiny));
+    request.set_scenario_text(test::read_text(test::kTinyScenario));
     grpc::ClientContext context;
     v1::Run run;
     if (!stub->SubmitRun(&context, request, &run).ok()) throw std::runtime_error("submit failed");
@@ -201,7 +200,7 @@ class RequestFindings : public ::testing::Test {
 };
 
 TEST_F(RequestFindings, EachIsRefusedNamingItsField) {
-  for (const Finding& f : findings()) {
+  for (const LimitFinding& f : limit_findings()) {
     SCOPED_TRACE(f.name);
     grpc::ClientContext context;
     context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(30));

@@ -25,7 +25,6 @@ namespace {
 using test::cli;
 using test::Daemon;
 
-const std::string kTiny = test::source_path("tests/service/scenarios/tiny.yaml");
 
 std::unique_ptr<v1::KesslerService::Stub> connect(const Daemon& d) {
   grpc::ChannelArguments args;
@@ -206,7 +205,7 @@ std::size_t count_lines(const std::string& text) {
 
 TEST(ServiceEndToEnd, SubmitWatchListQueryAndRestartMatchAnInProcessRun) {
   TempDir dir;
-  LocalRun local = run_in_process(kTiny);
+  LocalRun local = run_in_process(test::kTinyScenario);
   ASSERT_GT(local.summary.conjunctions, 0u) << "the test scenario should produce conjunctions";
 
   auto daemon = std::make_unique<Daemon>(dir.path() + "/k.db");
@@ -214,7 +213,7 @@ TEST(ServiceEndToEnd, SubmitWatchListQueryAndRestartMatchAnInProcessRun) {
   const std::string server = " --server " + daemon->address();
 
   // submit --watch --output json: the last line is the summary object.
-  auto submitted = cli(dir, "submit " + kTiny + " --watch --output json" + server);
+  auto submitted = cli(dir, "submit " + test::kTinyScenario + " --watch --output json" + server);
   ASSERT_EQ(submitted.exit_code, 0) << submitted.err;
   std::string summary = submitted.last_line();
   EXPECT_NE(summary.find("\"run_id\":1"), std::string::npos) << summary;
@@ -368,7 +367,7 @@ TEST(ServiceEndToEnd, SigkillMidRunThenRestartCompletesWithTheSameEvents) {
   TempDir dir;
   // The tiny run five times as long (about a second on one thread), so that it is still running when
   // a third is done and a checkpoint is stored, however the machine's load delays this test.
-  std::string scenario = test::read_text(kTiny);
+  std::string scenario = test::read_text(test::kTinyScenario);
   const std::string duration = "duration_days: 0.04";
   ASSERT_NE(scenario.find(duration), std::string::npos);
   scenario.replace(scenario.find(duration), duration.size(), "duration_days: 0.2");
@@ -408,7 +407,7 @@ TEST(ServiceEndToEnd, SigkillMidRunThenRestartCompletesWithTheSameEvents) {
 // run ends with exactly the events and digests of an uninterrupted run, none lost, none twice.
 TEST(ServiceEndToEnd, TwentySigkillsAtRandomMomentsAcrossRunsLoseAndDoubleNothing) {
   TempDir dir;
-  std::string scenario = test::read_text(kTiny);
+  std::string scenario = test::read_text(test::kTinyScenario);
   const std::string duration = "duration_days: 0.04";
   scenario.replace(scenario.find(duration), duration.size(), "duration_days: 0.5");
   const std::string path = dir.path() + "/longer.yaml";
@@ -445,12 +444,12 @@ TEST(ServiceEndToEnd, TwentySigkillsAtRandomMomentsAcrossRunsLoseAndDoubleNothin
 
 TEST(ServiceEndToEnd, SigtermCheckpointsTheRunningRunWhichResumesAtTheNextStart) {
   TempDir dir;
-  LocalRun local = run_in_process(kTiny);
+  LocalRun local = run_in_process(test::kTinyScenario);
   auto daemon = std::make_unique<Daemon>(dir.path() + "/k.db");
   daemon->start();
   auto stub = connect(*daemon);
-  std::int64_t id = submit_file(*stub, kTiny);
-  std::int64_t queued = submit_file(*stub, kTiny);
+  std::int64_t id = submit_file(*stub, test::kTinyScenario);
+  std::int64_t queued = submit_file(*stub, test::kTinyScenario);
   v1::Run run;
   do {
     run = get_run(*stub, id);
@@ -472,7 +471,7 @@ TEST(ServiceEndToEnd, SigtermCheckpointsTheRunningRunWhichResumesAtTheNextStart)
 // cancelled, and for an unknown one.
 TEST(ServiceEndToEnd, ACancelledRunResumesFromItsCheckpointAndEndsAsAnUninterruptedRun) {
   TempDir dir;
-  std::string scenario = test::read_text(kTiny);
+  std::string scenario = test::read_text(test::kTinyScenario);
   const std::string duration = "duration_days: 0.04";
   scenario.replace(scenario.find(duration), duration.size(), "duration_days: 0.2");
   const std::string path = dir.path() + "/longer.yaml";
@@ -522,7 +521,7 @@ TEST(ServiceEndToEnd, AWatcherThatReconnectsWithItsLastSequenceGetsExactlyTheRes
   auto daemon = std::make_unique<Daemon>(dir.path() + "/k.db");
   daemon->start();
   auto stub = connect(*daemon);
-  std::int64_t id = submit_file(*stub, kTiny);
+  std::int64_t id = submit_file(*stub, test::kTinyScenario);
   // Several watchers at once; each disconnects now and then and comes back with its last number.
   std::vector<std::vector<v1::RunEvent>> seen(4);
   std::vector<std::thread> watchers;
@@ -559,7 +558,7 @@ TEST(ServiceEndToEnd, BadSubmissionsAreRefusedNamingTheProblemAndTheDaemonKeepsS
       std::make_unique<Daemon>(dir.path() + "/k.db", std::vector<std::string>{"--max-message-mb", "40"});
   daemon->start();
   auto stub = connect(*daemon);
-  const std::string base = test::read_text(kTiny);
+  const std::string base = test::read_text(test::kTinyScenario);
   struct Case {
     std::string text;
     std::string path;  // expected in the message
@@ -638,7 +637,7 @@ TEST(ServiceEndToEnd, BadSubmissionsAreRefusedNamingTheProblemAndTheDaemonKeepsS
   EXPECT_EQ(cli(dir, "conjunctions notanumber").exit_code, 2);
 
   // Still serving: a good run goes through.
-  std::int64_t id = submit_file(*stub, kTiny);
+  std::int64_t id = submit_file(*stub, test::kTinyScenario);
   EXPECT_EQ(wait_until_ended(*stub, id).state(), v1::RUN_STATE_SUCCEEDED);
   EXPECT_TRUE(daemon->alive());
 }
@@ -650,7 +649,7 @@ TEST(ServiceEndToEnd, StatusCodesForQueueLimitsCancelDeleteAndUnknownRuns) {
   daemon->start();
   auto stub = connect(*daemon);
   // Runs long enough (days) to be cancelled while still running, however fast the machine.
-  std::string long_text = test::read_text(kTiny);
+  std::string long_text = test::read_text(test::kTinyScenario);
   long_text.replace(long_text.find("duration_days: 0.04"), 19, "duration_days: 5");
   test::write_text(dir.path() + "/long.yaml", long_text);
   std::int64_t running = submit_file(*stub, dir.path() + "/long.yaml");
@@ -658,11 +657,11 @@ TEST(ServiceEndToEnd, StatusCodesForQueueLimitsCancelDeleteAndUnknownRuns) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   std::int64_t queued = submit_file(*stub, dir.path() + "/long.yaml");
   v1::SubmitRunRequest request;
-  request.set_scenario_text(test::read_text(kTiny));
+  request.set_scenario_text(test::read_text(test::kTinyScenario));
   v1::Run run;
   EXPECT_EQ(submit(*stub, request, run).error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
   const std::string server = " --server " + daemon->address();
-  auto full = cli(dir, "submit " + kTiny + server);
+  auto full = cli(dir, "submit " + test::kTinyScenario + server);
   EXPECT_EQ(full.exit_code, 1);
   EXPECT_NE(full.err.find("RESOURCE_EXHAUSTED"), std::string::npos);
 

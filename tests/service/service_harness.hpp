@@ -26,6 +26,8 @@ inline std::string bin(const std::string& name) {
 inline std::string source_path(const std::string& rel) {
   return std::string(KESSLER_SOURCE_DIR) + "/" + rel;
 }
+// A scenario of a few objects for a few minutes: the suites' quickest complete run.
+inline const std::string kTinyScenario = source_path("tests/service/scenarios/tiny.yaml");
 
 inline std::string read_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

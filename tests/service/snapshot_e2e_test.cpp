@@ -26,7 +26,7 @@ namespace {
 using test::cli;
 
 // 43 steps of 10 s; a snapshot every 0.001 days (86.4 s: 9 steps) and at the last step.
-const char* const kScenario = R"yaml(
+const char* const kSnapshotScenario = R"yaml(
 name: snapshot-e2e
 duration_days: 0.005
 dt_s: 10
@@ -44,7 +44,7 @@ constexpr std::int64_t kExplosionStep = 6;
 
 class SnapshotEndToEnd : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { shared_ = new Shared(test::parsed_scenario(kScenario)); }
+  static void SetUpTestSuite() { shared_ = new Shared(test::parsed_scenario(kSnapshotScenario)); }
   static void TearDownTestSuite() {
     delete shared_;
     shared_ = nullptr;
